@@ -1,0 +1,62 @@
+!> Errors and the run log. Two ways to stop:
+!>  - fatal(where, what): an error that one rank found; prints and aborts every rank.
+!>  - stop_collective(msg, ok): called by every rank with its own verdict; when any rank
+!>    has ok = .false., the lowest such rank prints its message and all ranks exit(1).
+!> log_line writes to stdout on rank 0 and to the run log once it is open.
+module m_errors
+  use m_kinds, only: line_len, path_len
+  use m_comm, only: comm_abort, comm_exit, comm_is_root, comm_minloc_rank, comm_rank
+  implicit none
+  private
+  public :: fatal, stop_collective, log_open, log_close, log_line, log_unit
+
+  integer :: log_unit = -1
+
+contains
+
+  subroutine fatal(where, what)
+    character(len=*), intent(in) :: where, what
+    write(0, '(a)') 'ERROR [' // trim(where) // ']: ' // trim(what)
+    if (log_unit > 0) then
+      write(log_unit, '(a)') 'ERROR [' // trim(where) // ']: ' // trim(what)
+      flush(log_unit)
+    end if
+    call comm_abort(1)
+  end subroutine fatal
+
+  subroutine stop_collective(msg, ok)
+    character(len=*), intent(in) :: msg
+    logical, intent(in) :: ok
+    integer :: who
+    who = comm_minloc_rank(.not. ok)
+    if (who < 0) return
+    if (comm_rank() == who) then
+      write(0, '(a)') trim(msg)
+      if (log_unit > 0) write(log_unit, '(a)') trim(msg)
+    end if
+    if (log_unit > 0) close(log_unit)
+    call comm_exit(1)
+  end subroutine stop_collective
+
+  subroutine log_open(path)
+    character(len=*), intent(in) :: path
+    integer :: ios
+    if (.not. comm_is_root()) return
+    open(newunit=log_unit, file=trim(path), status='replace', action='write', iostat=ios)
+    if (ios /= 0) call fatal('log_open', 'cannot write ' // trim(path) // &
+      ': check that out_dir is writable')
+  end subroutine log_open
+
+  subroutine log_close()
+    if (log_unit > 0) close(log_unit)
+    log_unit = -1
+  end subroutine log_close
+
+  subroutine log_line(text)
+    character(len=*), intent(in) :: text
+    if (.not. comm_is_root()) return
+    write(6, '(a)') trim(text)
+    if (log_unit > 0) write(log_unit, '(a)') trim(text)
+  end subroutine log_line
+
+end module m_errors

@@ -1,0 +1,54 @@
+!> Wall-clock timers of the phases of a run, reported in run.log. A timer_t holds one
+!> accumulator per named phase; no module-level state.
+module m_timers
+  use m_kinds, only: wp, name_len
+  use m_comm, only: comm_wtime
+  implicit none
+  private
+  public :: timers_t, timer_start, timer_stop, timer_total
+
+  integer, parameter :: max_phases = 16
+
+  type :: timers_t
+    integer :: n = 0
+    character(len=name_len) :: name(max_phases) = ''
+    real(wp) :: total(max_phases) = 0.0_wp
+    real(wp) :: started(max_phases) = 0.0_wp
+  end type timers_t
+
+contains
+
+  integer function phase_index(t, name) result(k)
+    type(timers_t), intent(inout) :: t
+    character(len=*), intent(in) :: name
+    do k = 1, t%n
+      if (t%name(k) == name) return
+    end do
+    t%n = min(t%n + 1, max_phases)
+    k = t%n
+    t%name(k) = name
+  end function phase_index
+
+  subroutine timer_start(t, name)
+    type(timers_t), intent(inout) :: t
+    character(len=*), intent(in) :: name
+    integer :: k
+    k = phase_index(t, name)
+    t%started(k) = comm_wtime()
+  end subroutine timer_start
+
+  subroutine timer_stop(t, name)
+    type(timers_t), intent(inout) :: t
+    character(len=*), intent(in) :: name
+    integer :: k
+    k = phase_index(t, name)
+    t%total(k) = t%total(k) + (comm_wtime() - t%started(k))
+  end subroutine timer_stop
+
+  real(wp) function timer_total(t, name)
+    type(timers_t), intent(inout) :: t
+    character(len=*), intent(in) :: name
+    timer_total = t%total(phase_index(t, name))
+  end function timer_total
+
+end module m_timers

@@ -1,0 +1,156 @@
+!> Physical boundary conditions on the halo cells that no neighbour block fills
+!> (manual/theory.md section 4): outflow (zero gradient), symmetry and rigid (mirror, normal
+!> velocity reversed: inviscid slip wall), velocity (mirror with the normal velocity set to
+!> 2 V(t) - u, V(t) = V min(1, t / t_rise)), and the wall of an inactive (rigid-obstacle)
+!> block, which is rigid. Periodic sides are neighbour blocks, filled by m_halo.
+!> Order: first every halo box without a source block is filled by clamping to the nearest
+!> interior cell (so that edges and corners hold admissible states), then the faces are
+!> applied direction by direction over the full extent of the other directions, so edges
+!> and corners at the domain boundary see the conditions of both sides.
+module m_boundary
+  use m_kinds, only: wp
+  use m_layout, only: layout_t, block_neighbor, wall_neighbor
+  use m_blocks, only: block_t
+  use m_state, only: i_rho, i_mx, i_en
+  implicit none
+  private
+  public :: bc_kind_t, bc_outflow, bc_symmetry, bc_rigid, bc_periodic, bc_velocity
+  public :: bc_from_name, boundary_apply
+
+  integer, parameter :: bc_outflow = 1, bc_symmetry = 2, bc_rigid = 3, bc_periodic = 4
+  integer, parameter :: bc_velocity = 5
+
+  !> The conditions on the six sides of the domain.
+  type :: bc_kind_t
+    integer :: lo(3) = bc_outflow, hi(3) = bc_outflow
+    real(wp) :: velocity(3) = 0.0_wp
+    real(wp) :: rise_time = 0.0_wp
+  end type bc_kind_t
+
+contains
+
+  integer function bc_from_name(name) result(k)
+    character(len=*), intent(in) :: name
+    select case (trim(name))
+    case ('symmetry')
+      k = bc_symmetry
+    case ('rigid')
+      k = bc_rigid
+    case ('periodic')
+      k = bc_periodic
+    case ('velocity')
+      k = bc_velocity
+    case default
+      k = bc_outflow
+    end select
+  end function bc_from_name
+
+  subroutine boundary_apply(lay, bc, blocks, nvar, time)
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    type(block_t), intent(inout) :: blocks(:)
+    integer, intent(in) :: nvar
+    real(wp), intent(in) :: time
+    integer :: b, d, s, nbr, dir(3), kind
+    real(wp) :: vwall
+    do b = 1, size(blocks)
+      call clamp_fill(lay, blocks(b), nvar)
+      do d = 1, lay%ndim
+        do s = -1, 1, 2
+          dir = 0
+          dir(d) = s
+          nbr = block_neighbor(lay, blocks(b)%id, dir)
+          if (nbr > 0) cycle
+          if (nbr == wall_neighbor) then
+            kind = bc_rigid
+          else if (s < 0) then
+            kind = bc%lo(d)
+          else
+            kind = bc%hi(d)
+          end if
+          vwall = 0.0_wp
+          if (kind == bc_velocity) then
+            vwall = bc%velocity(d)
+            if (bc%rise_time > 0.0_wp) vwall = vwall * min(1.0_wp, time / bc%rise_time)
+          end if
+          call face_fill(lay, blocks(b)%q, nvar, d, s, kind, vwall)
+        end do
+      end do
+    end do
+  end subroutine boundary_apply
+
+  !> Halo boxes with no source block take the value of the nearest interior cell.
+  subroutine clamp_fill(lay, blk, nvar)
+    type(layout_t), intent(in) :: lay
+    type(block_t), intent(inout) :: blk
+    integer, intent(in) :: nvar
+    integer :: di, dj, dk, nbr, i, j, k, m, lo(3), hi(3), n(3), g(3), dmax(3)
+    n = lay%bsize
+    g = lay%ng
+    dmax = merge(1, 0, g > 0)
+    do dk = -dmax(3), dmax(3)
+      do dj = -dmax(2), dmax(2)
+        do di = -dmax(1), dmax(1)
+          if (di == 0 .and. dj == 0 .and. dk == 0) cycle
+          nbr = block_neighbor(lay, blk%id, [di, dj, dk])
+          if (nbr > 0) cycle
+          lo = merge(1 - g, merge(1, n + 1, [di, dj, dk] == 0), [di, dj, dk] < 0)
+          hi = merge(0 * g, merge(n, n + g, [di, dj, dk] == 0), [di, dj, dk] < 0)
+          do m = 1, nvar
+            do k = lo(3), hi(3)
+              do j = lo(2), hi(2)
+                do i = lo(1), hi(1)
+                  blk%q(i, j, k, m) = blk%q(min(max(i, 1), n(1)), min(max(j, 1), n(2)), &
+                    min(max(k, 1), n(3)), m)
+                end do
+              end do
+            end do
+          end do
+        end do
+      end do
+    end do
+  end subroutine clamp_fill
+
+  !> One face of a block, side s (-1 low, +1 high) of direction d, over the full extent of
+  !> the other directions including their halos: halo cell n + l mirrors cell n + 1 - l
+  !> (outflow: copies cell n).
+  subroutine face_fill(lay, q, nvar, d, s, kind, vwall)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: nvar, d, s, kind
+    real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    real(wp), intent(in) :: vwall
+    integer :: lo(3), hi(3), i, j, k, m, n, src(3), imom
+    real(wp) :: rho, un_old, un_new
+    n = lay%bsize(d)
+    lo = 1 - lay%ng
+    hi = lay%bsize + lay%ng
+    if (s < 0) then
+      hi(d) = 0
+    else
+      lo(d) = n + 1
+    end if
+    imom = i_mx + d - 1
+    do k = lo(3), hi(3)
+      do j = lo(2), hi(2)
+        do i = lo(1), hi(1)
+          src = [i, j, k]
+          if (kind == bc_outflow) then
+            src(d) = merge(1, n, s < 0)
+          else
+            src(d) = merge(1 - src(d), 2 * n + 1 - src(d), s < 0)
+          end if
+          do m = 1, nvar
+            q(i, j, k, m) = q(src(1), src(2), src(3), m)
+          end do
+          if (kind == bc_outflow) cycle
+          rho = q(i, j, k, i_rho)
+          un_old = q(i, j, k, imom) / rho
+          un_new = 2.0_wp * vwall - un_old
+          q(i, j, k, imom) = rho * un_new
+          q(i, j, k, i_en) = q(i, j, k, i_en) + 0.5_wp * rho * (un_new**2 - un_old**2)
+        end do
+      end do
+    end do
+  end subroutine face_fill
+
+end module m_boundary

@@ -1,0 +1,106 @@
+!> The block layout of the global grid (DESIGN section 3): how many blocks, where each one
+!> sits, which rank owns it, and who its neighbours are. The grid is uniform; block ids are
+!> global, 1-based, x fastest: id = 1 + ib + nb(1) * (jb + nb(2) * kb) with ib, jb, kb from 0.
+!> Nothing here is of the size of the global grid: only per-block arrays.
+module m_layout
+  use m_kinds, only: wp
+  implicit none
+  private
+  public :: layout_t, layout_init, block_coords, block_id, block_neighbor, block_offset
+  public :: n_halo, no_neighbor, wall_neighbor
+
+  integer, parameter :: n_halo = 4          !< halo depth in every active direction
+  integer, parameter :: no_neighbor = 0     !< the domain boundary lies there
+  integer, parameter :: wall_neighbor = -1  !< an inactive (rigid-obstacle) block lies there
+
+  type :: layout_t
+    integer :: ndim = 1
+    integer :: cells(3) = 1          !< global cells per direction
+    integer :: bsize(3) = 1          !< cells per block per direction
+    integer :: nb(3) = 1             !< blocks per direction
+    integer :: ng(3) = 0             !< halo depth per direction (0 in inactive directions)
+    integer :: nblocks = 0           !< nb(1) * nb(2) * nb(3)
+    real(wp) :: lo(3) = 0.0_wp, hi(3) = 1.0_wp, dx(3) = 1.0_wp
+    logical :: periodic(3) = .false.
+    logical :: axisymmetric = .false.
+    logical, allocatable :: active(:) !< (nblocks) false inside a rigid obstacle
+    integer, allocatable :: owner(:)  !< (nblocks) rank owning the block, -1 if inactive
+  end type layout_t
+
+contains
+
+  subroutine layout_init(lay, ndim, cells, bsize, lo, hi, periodic, axisymmetric)
+    type(layout_t), intent(out) :: lay
+    integer, intent(in) :: ndim, cells(3), bsize(3)
+    real(wp), intent(in) :: lo(3), hi(3)
+    logical, intent(in) :: periodic(3), axisymmetric
+    integer :: d
+    lay%ndim = ndim
+    lay%cells = 1
+    lay%bsize = 1
+    lay%ng = 0
+    lay%lo = 0.0_wp
+    lay%hi = 1.0_wp
+    lay%periodic = .false.
+    do d = 1, ndim
+      lay%cells(d) = cells(d)
+      lay%bsize(d) = bsize(d)
+      lay%ng(d) = n_halo
+      lay%lo(d) = lo(d)
+      lay%hi(d) = hi(d)
+      lay%periodic(d) = periodic(d)
+    end do
+    lay%nb = lay%cells / lay%bsize
+    lay%dx = (lay%hi - lay%lo) / real(lay%cells, wp)
+    lay%nblocks = product(lay%nb)
+    lay%axisymmetric = axisymmetric
+    allocate(lay%active(lay%nblocks), lay%owner(lay%nblocks))
+    lay%active = .true.
+    lay%owner = 0
+  end subroutine layout_init
+
+  !> Block coordinates (0-based) of block id.
+  pure function block_coords(lay, id) result(ijk)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: id
+    integer :: ijk(3)
+    ijk(1) = mod(id - 1, lay%nb(1))
+    ijk(2) = mod((id - 1) / lay%nb(1), lay%nb(2))
+    ijk(3) = (id - 1) / (lay%nb(1) * lay%nb(2))
+  end function block_coords
+
+  pure integer function block_id(lay, ijk)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: ijk(3)
+    block_id = 1 + ijk(1) + lay%nb(1) * (ijk(2) + lay%nb(2) * ijk(3))
+  end function block_id
+
+  !> Global index offset of a block: its local cell i is global cell offset(1) + i.
+  pure function block_offset(lay, id) result(off)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: id
+    integer :: off(3)
+    off = block_coords(lay, id) * lay%bsize
+  end function block_offset
+
+  !> The block across offset dir (each -1, 0 or 1) from block id, with periodic wrap;
+  !> no_neighbor at the domain boundary, wall_neighbor when that block is inactive.
+  pure integer function block_neighbor(lay, id, dir) result(nbr)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: id, dir(3)
+    integer :: ijk(3), d
+    ijk = block_coords(lay, id) + dir
+    do d = 1, 3
+      if (ijk(d) < 0 .or. ijk(d) >= lay%nb(d)) then
+        if (.not. lay%periodic(d)) then
+          nbr = no_neighbor
+          return
+        end if
+        ijk(d) = modulo(ijk(d), lay%nb(d))
+      end if
+    end do
+    nbr = block_id(lay, ijk)
+    if (.not. lay%active(nbr)) nbr = wall_neighbor
+  end function block_neighbor
+
+end module m_layout

@@ -1,0 +1,115 @@
+!> Numerical fluxes of the Euler equations across the faces of one pencil
+!> (manual/theory.md section 3): local Lax-Friedrichs (Rusanov) and HLLC (Toro, Speares and
+!> Toward 1994) with Davis wave-speed estimates. States are primitive, in the frame of the
+!> pencil: (rho, u_normal, u_t1, u_t2, p), with the specific internal energy e and the sound
+!> speed c supplied by the caller (from the EOS), so the flux is EOS-independent.
+module m_flux
+  use m_kinds, only: wp
+  implicit none
+  private
+  public :: flux_llf, flux_hllc, flux_from_name, flux_kind_llf, flux_kind_hllc, face_flux
+
+  integer, parameter :: flux_kind_llf = 1, flux_kind_hllc = 2
+
+contains
+
+  integer function flux_from_name(name) result(kind)
+    character(len=*), intent(in) :: name
+    kind = flux_kind_llf
+    if (trim(name) == 'hllc') kind = flux_kind_hllc
+  end function flux_from_name
+
+  subroutine face_flux(kind, nf, wl, wr, el, er, cl, cr, f)
+    integer, intent(in) :: kind, nf
+    real(wp), intent(in) :: wl(nf, 5), wr(nf, 5), el(nf), er(nf), cl(nf), cr(nf)
+    real(wp), intent(out) :: f(nf, 5)
+    if (kind == flux_kind_hllc) then
+      call flux_hllc(nf, wl, wr, el, er, cl, cr, f)
+    else
+      call flux_llf(nf, wl, wr, el, er, cl, cr, f)
+    end if
+  end subroutine face_flux
+
+  subroutine flux_llf(nf, wl, wr, el, er, cl, cr, f)
+    integer, intent(in) :: nf
+    real(wp), intent(in) :: wl(nf, 5), wr(nf, 5), el(nf), er(nf), cl(nf), cr(nf)
+    real(wp), intent(out) :: f(nf, 5)
+    real(wp) :: a, ml, mr, enl, enr, kl, kr
+    integer :: i
+    do i = 1, nf
+      a = max(abs(wl(i, 2)) + cl(i), abs(wr(i, 2)) + cr(i))
+      ml = wl(i, 1) * wl(i, 2)
+      mr = wr(i, 1) * wr(i, 2)
+      kl = 0.5_wp * (wl(i, 2)**2 + wl(i, 3)**2 + wl(i, 4)**2)
+      kr = 0.5_wp * (wr(i, 2)**2 + wr(i, 3)**2 + wr(i, 4)**2)
+      enl = wl(i, 1) * (el(i) + kl)
+      enr = wr(i, 1) * (er(i) + kr)
+      f(i, 1) = 0.5_wp * (ml + mr - a * (wr(i, 1) - wl(i, 1)))
+      f(i, 2) = 0.5_wp * (ml * wl(i, 2) + wl(i, 5) + mr * wr(i, 2) + wr(i, 5) &
+        - a * (wr(i, 1) * wr(i, 2) - wl(i, 1) * wl(i, 2)))
+      f(i, 3) = 0.5_wp * (ml * wl(i, 3) + mr * wr(i, 3) &
+        - a * (wr(i, 1) * wr(i, 3) - wl(i, 1) * wl(i, 3)))
+      f(i, 4) = 0.5_wp * (ml * wl(i, 4) + mr * wr(i, 4) &
+        - a * (wr(i, 1) * wr(i, 4) - wl(i, 1) * wl(i, 4)))
+      f(i, 5) = 0.5_wp * ((enl + wl(i, 5)) * wl(i, 2) + (enr + wr(i, 5)) * wr(i, 2) &
+        - a * (enr - enl))
+    end do
+  end subroutine flux_llf
+
+  subroutine flux_hllc(nf, wl, wr, el, er, cl, cr, f)
+    integer, intent(in) :: nf
+    real(wp), intent(in) :: wl(nf, 5), wr(nf, 5), el(nf), er(nf), cl(nf), cr(nf)
+    real(wp), intent(out) :: f(nf, 5)
+    real(wp) :: sl, sr, ss, enl, enr, fl(5), fr(5), ul(5), ur(5), us(5), fac, rho, un, en
+    integer :: i
+    do i = 1, nf
+      sl = min(wl(i, 2) - cl(i), wr(i, 2) - cr(i))
+      sr = max(wl(i, 2) + cl(i), wr(i, 2) + cr(i))
+      enl = wl(i, 1) * (el(i) + 0.5_wp * (wl(i, 2)**2 + wl(i, 3)**2 + wl(i, 4)**2))
+      enr = wr(i, 1) * (er(i) + 0.5_wp * (wr(i, 2)**2 + wr(i, 3)**2 + wr(i, 4)**2))
+      ss = (wr(i, 5) - wl(i, 5) + wl(i, 1) * wl(i, 2) * (sl - wl(i, 2)) &
+        - wr(i, 1) * wr(i, 2) * (sr - wr(i, 2))) &
+        / (wl(i, 1) * (sl - wl(i, 2)) - wr(i, 1) * (sr - wr(i, 2)))
+      if (ss >= 0.0_wp) then
+        rho = wl(i, 1)
+        un = wl(i, 2)
+        en = enl
+        call euler_flux(wl(i, :), enl, fl)
+        if (sl >= 0.0_wp) then
+          f(i, :) = fl
+          cycle
+        end if
+        ul = [rho, rho * un, rho * wl(i, 3), rho * wl(i, 4), en]
+        fac = rho * (sl - un) / (sl - ss)
+        us = fac * [1.0_wp, ss, wl(i, 3), wl(i, 4), &
+          en / rho + (ss - un) * (ss + wl(i, 5) / (rho * (sl - un)))]
+        f(i, :) = fl + sl * (us - ul)
+      else
+        rho = wr(i, 1)
+        un = wr(i, 2)
+        en = enr
+        call euler_flux(wr(i, :), enr, fr)
+        if (sr <= 0.0_wp) then
+          f(i, :) = fr
+          cycle
+        end if
+        ur = [rho, rho * un, rho * wr(i, 3), rho * wr(i, 4), en]
+        fac = rho * (sr - un) / (sr - ss)
+        us = fac * [1.0_wp, ss, wr(i, 3), wr(i, 4), &
+          en / rho + (ss - un) * (ss + wr(i, 5) / (rho * (sr - un)))]
+        f(i, :) = fr + sr * (us - ur)
+      end if
+    end do
+  end subroutine flux_hllc
+
+  pure subroutine euler_flux(w, en, f)
+    real(wp), intent(in) :: w(5), en
+    real(wp), intent(out) :: f(5)
+    f(1) = w(1) * w(2)
+    f(2) = f(1) * w(2) + w(5)
+    f(3) = f(1) * w(3)
+    f(4) = f(1) * w(4)
+    f(5) = (en + w(5)) * w(2)
+  end subroutine euler_flux
+
+end module m_flux

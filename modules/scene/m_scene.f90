@@ -1,0 +1,70 @@
+!> The scene: bodies and their shapes (DESIGN section 6, &body), painted in deck order onto
+!> the cells of the blocks (a later body overrides an earlier one). In this version every
+!> body is of the base material (it sets the initial state there: a shock-tube half, a blast
+!> region) or is a rigid obstacle that covers whole blocks, which are then not computed and
+!> act as rigid walls for their neighbours (m_boundary). Level-set bodies of other materials
+!> come with the interface work.
+module m_scene
+  use m_kinds, only: wp
+  use m_config, only: body_t
+  use m_layout, only: layout_t, block_offset
+  implicit none
+  private
+  public :: inside_body, cell_centre, rigid_block_status
+
+contains
+
+  pure function cell_centre(lay, offset, i, j, k) result(x)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), i, j, k
+    real(wp) :: x(3)
+    x = lay%lo + (real(offset + [i, j, k], wp) - 0.5_wp) * lay%dx
+  end function cell_centre
+
+  !> Is point x (only its first ndim coordinates count) inside the body?
+  pure logical function inside_body(body, ndim, x) result(inside)
+    type(body_t), intent(in) :: body
+    integer, intent(in) :: ndim
+    real(wp), intent(in) :: x(3)
+    real(wp) :: r(3), a(3), along
+    r = 0.0_wp
+    r(1:ndim) = x(1:ndim) - body%center(1:ndim)
+    select case (trim(body%shape))
+    case ('box')
+      inside = all(x(1:ndim) >= body%lo(1:ndim) .and. x(1:ndim) <= body%hi(1:ndim))
+    case ('sphere')
+      inside = sum(r**2) <= body%radius**2
+    case ('cylinder')
+      a = body%axis / norm2(body%axis)
+      along = dot_product(r, a)
+      inside = abs(along) <= 0.5_wp * body%length .and. &
+        sum((r - along * a)**2) <= body%radius**2
+    case ('half_space')
+      inside = dot_product(r, body%axis) <= 0.0_wp
+    case default
+      inside = .false.
+    end select
+  end function inside_body
+
+  !> For block id: 0 when no cell centre lies in the rigid body, 2 when all do, 1 when only
+  !> some do (a rigid body must cover whole blocks in this version).
+  integer function rigid_block_status(lay, id, body) result(status)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: id
+    type(body_t), intent(in) :: body
+    integer :: i, j, k, off(3), nin
+    off = block_offset(lay, id)
+    nin = 0
+    do k = 1, lay%bsize(3)
+      do j = 1, lay%bsize(2)
+        do i = 1, lay%bsize(1)
+          if (inside_body(body, lay%ndim, cell_centre(lay, off, i, j, k))) nin = nin + 1
+        end do
+      end do
+    end do
+    status = 1
+    if (nin == 0) status = 0
+    if (nin == product(lay%bsize)) status = 2
+  end function rigid_block_status
+
+end module m_scene

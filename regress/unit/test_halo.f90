@@ -1,0 +1,99 @@
+!> Unit test of the halo exchange (m_halo) on any number of ranks: in 2D and 3D layouts with
+!> several blocks per rank, periodic and non-periodic directions and an inactive block, every
+!> interior cell holds a code of its global index; after one exchange every halo cell whose
+!> source cell exists (through a neighbour block, with periodic wrap) must hold the code of
+!> that source cell, for every variable.
+program test_halo
+  use m_kinds, only: wp
+  use m_layout, only: layout_t, layout_init, block_neighbor
+  use m_blocks, only: block_t, blocks_allocate
+  use m_halo, only: halo_plan_t, halo_plan_build, halo_exchange
+  use m_partition, only: partition_blocks
+  use m_comm, only: comm_init, comm_exit, comm_rank, comm_size, comm_sum
+  use m_kinds, only: i8
+  implicit none
+  integer :: nbad
+  call comm_init()
+  nbad = 0
+  call run_case(2, [32, 24, 1], [8, 8, 1], [.true., .false., .false.], 0)
+  call run_case(2, [32, 32, 1], [8, 8, 1], [.false., .true., .false.], 6)
+  call run_case(3, [16, 16, 12], [4, 8, 4], [.true., .true., .true.], 0)
+  call run_case(3, [16, 12, 16], [8, 4, 4], [.false., .true., .false.], 5)
+  if (comm_sum(int(nbad, i8)) == 0) then
+    if (comm_rank() == 0) write(6, '(a,i0,a)') 'PASS test_halo (', comm_size(), ' ranks)'
+    call comm_exit(0)
+  end if
+  if (comm_rank() == 0) write(6, '(a)') 'FAIL test_halo'
+  call comm_exit(1)
+
+contains
+
+  pure real(wp) function code(g, m)
+    integer, intent(in) :: g(3), m
+    code = real(m, wp) + 10.0_wp * (g(1) + 1000 * (g(2) + 1000 * g(3)))
+  end function code
+
+  subroutine run_case(ndim, cells, bsize, periodic, hole)
+    integer, intent(in) :: ndim, cells(3), bsize(3), hole
+    logical, intent(in) :: periodic(3)
+    type(layout_t) :: lay
+    type(block_t), allocatable :: blocks(:)
+    type(halo_plan_t) :: plan
+    integer, allocatable :: work(:)
+    integer :: b, i, j, k, m, g(3), dir(3), nbr, d, checked
+    real(wp), parameter :: lo(3) = 0.0_wp, hi(3) = 1.0_wp
+    call layout_init(lay, ndim, cells, bsize, lo, hi, periodic, .false.)
+    if (hole > 0) lay%active(hole) = .false.
+    allocate(work(lay%nblocks))
+    work = 1
+    call partition_blocks(lay, work)
+    call blocks_allocate(lay, comm_rank(), 3, blocks)
+    call halo_plan_build(lay, blocks, plan)
+    do b = 1, size(blocks)
+      blocks(b)%q = -1.0_wp
+      do m = 1, 3
+        do k = 1, lay%bsize(3)
+          do j = 1, lay%bsize(2)
+            do i = 1, lay%bsize(1)
+              blocks(b)%q(i, j, k, m) = code(blocks(b)%offset + [i, j, k], m)
+            end do
+          end do
+        end do
+      end do
+    end do
+    call halo_exchange(plan, blocks, 3)
+    checked = 0
+    do b = 1, size(blocks)
+      do k = 1 - lay%ng(3), lay%bsize(3) + lay%ng(3)
+        do j = 1 - lay%ng(2), lay%bsize(2) + lay%ng(2)
+          do i = 1 - lay%ng(1), lay%bsize(1) + lay%ng(1)
+            dir = 0
+            g = [i, j, k]
+            do d = 1, 3
+              if (g(d) < 1) dir(d) = -1
+              if (g(d) > lay%bsize(d)) dir(d) = 1
+            end do
+            if (all(dir == 0)) cycle
+            nbr = block_neighbor(lay, blocks(b)%id, dir)
+            if (nbr <= 0) cycle
+            g = blocks(b)%offset + [i, j, k]
+            do d = 1, 3
+              g(d) = modulo(g(d) - 1, lay%cells(d)) + 1
+            end do
+            do m = 1, 3
+              checked = checked + 1
+              if (abs(blocks(b)%q(i, j, k, m) - code(g, m)) > 0.0_wp) then
+                if (nbad < 5) write(6, '(a,i0,a,3i4,a,i0,a,2es14.6)') 'rank ', comm_rank(), &
+                  ' halo cell ', i, j, k, ' of block ', blocks(b)%id, ': got/expected ', &
+                  blocks(b)%q(i, j, k, m), code(g, m)
+                nbad = nbad + 1
+              end if
+            end do
+          end do
+        end do
+      end do
+    end do
+    if (comm_sum(int(checked, i8)) == 0) nbad = nbad + 1
+  end subroutine run_case
+
+end program test_halo

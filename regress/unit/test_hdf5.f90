@@ -1,0 +1,273 @@
+!> Unit test of m_hdf5_io (and the m_xdmf companion file). For a 1D, a 2D and a 3D layout
+!> with several blocks per rank and some inactive blocks, each block's data a known function
+!> of the global cell index, it writes a file, then reads it back into the blocks of a
+!> DIFFERENT owner assignment (what a restart on another rank count sees) and checks every
+!> value bit for bit, that inactive blocks read back as 0, that attributes and the text
+!> dataset round-trip with rank 0's value, and the root grid attributes. In the 3D case the
+!> last rank holds no block when writing, so the collective calls are exercised with nloc = 0.
+!> Prints PASS test_hdf5 or FAIL ... and exits non-zero on failure. With --keep the files
+!> (test_hdf5_{1d,2d,3d}.h5 and .xmf in the working folder) are kept for inspection.
+program test_hdf5
+  use m_kinds, only: wp, i8
+  use m_comm, only: comm_init, comm_rank, comm_size, comm_is_root, comm_max, comm_exit, &
+    comm_barrier
+  use m_layout, only: layout_t, layout_init, block_offset
+  use m_hdf5_io, only: h5_file_t, h5_init, h5_finalize, h5_create, h5_open_read, h5_close, &
+    h5_write_attr, h5_read_attr, h5_write_field, h5_read_field, h5_write_text, &
+    h5_read_text, h5_exists
+  use m_xdmf, only: xdmf_write
+  implicit none
+
+  integer, parameter :: n_fields = 3
+  character(len=*), parameter :: field_path(n_fields) = &
+    [character(len=16) :: '/fields/rho', '/fields/p', '/state/deep/q1']
+  integer :: n_fail, i
+  logical :: keep
+  character(len=64) :: arg
+
+  call comm_init()
+  call h5_init()
+  keep = .false.
+  do i = 1, command_argument_count()
+    call get_command_argument(i, arg)
+    if (trim(arg) == '--keep') keep = .true.
+  end do
+
+  n_fail = 0
+  call run_case('1d', 1, [64, 1, 1], [8, 1, 1], [-1.0_wp, 0.0_wp, 0.0_wp], &
+    [2.0_wp, 1.0_wp, 1.0_wp], [3], .false.)
+  call run_case('2d', 2, [24, 16, 1], [4, 4, 1], [-1.0_wp, 0.25_wp, 0.0_wp], &
+    [2.0_wp, 1.5_wp, 1.0_wp], [8, 15], .false.)
+  call run_case('3d', 3, [12, 8, 16], [4, 4, 4], [-1.0_wp, 0.25_wp, 3.0_wp], &
+    [2.0_wp, 1.5_wp, 4.0_wp], [5, 18], .true.)
+
+  call h5_finalize()
+  n_fail = comm_max(n_fail)
+  if (n_fail == 0) then
+    if (comm_is_root()) write(6, '(a)') 'PASS test_hdf5'
+    call comm_exit(0)
+  else
+    if (comm_is_root()) write(6, '(a, i0, a)') 'FAIL test_hdf5: ', n_fail, &
+      ' check(s) failed on the worst rank'
+    call comm_exit(1)
+  end if
+
+contains
+
+  !> The value stored at global cell (gi, gj, gk) of field m: irrational bits everywhere.
+  pure real(wp) function known_value(gi, gj, gk, m)
+    integer, intent(in) :: gi, gj, gk, m
+    known_value = real(m, wp) * 1000.0_wp + real(gi, wp) / 3.0_wp + &
+      real(gj, wp) * sqrt(2.0_wp) - real(gk, wp) * 1.0e-7_wp / 7.0_wp
+  end function known_value
+
+  elemental logical function same_bits(a, b)
+    real(wp), intent(in) :: a, b
+    same_bits = transfer(a, 0_i8) == transfer(b, 0_i8)
+  end function same_bits
+
+  subroutine fail(what)
+    character(len=*), intent(in) :: what
+    n_fail = n_fail + 1
+    if (n_fail <= 20) write(0, '(a, i0, a)') 'FAIL test_hdf5 [rank ', comm_rank(), ']: ' // &
+      trim(what)
+  end subroutine fail
+
+  !> The ids (ascending) of the blocks whose owner is this rank.
+  subroutine my_blocks(lay, ids)
+    type(layout_t), intent(in) :: lay
+    integer, allocatable, intent(out) :: ids(:)
+    integer :: id
+    allocate(ids(0))
+    do id = 1, lay%nblocks
+      if (lay%owner(id) == comm_rank()) ids = [ids, id]
+    end do
+  end subroutine my_blocks
+
+  subroutine run_case(tag, ndim, cells, bsize, lo, hi, inactive, leave_last_rank_empty)
+    character(len=*), intent(in) :: tag
+    integer, intent(in) :: ndim, cells(3), bsize(3), inactive(:)
+    real(wp), intent(in) :: lo(3), hi(3)
+    logical, intent(in) :: leave_last_rank_empty
+    type(layout_t) :: lay
+    type(h5_file_t) :: f
+    character(len=:), allocatable :: path, deck, text
+    integer, allocatable :: ids(:)
+    real(wp), allocatable :: data(:, :, :, :)
+    integer :: n_writers, n_active, id, k, m, step, cells_read(3), ndim_read
+    real(wp) :: time, lohi(3), coeffs(4)
+    character(len=64) :: title, empty
+
+    path = 'test_hdf5_' // tag // '.h5'
+    call layout_init(lay, ndim, cells, bsize, lo, hi, [.false., .false., .false.], .false.)
+    lay%active(inactive) = .false.
+    n_active = count(lay%active)
+
+    ! Write: active blocks dealt round-robin, optionally leaving the last rank empty.
+    n_writers = comm_size()
+    if (leave_last_rank_empty .and. comm_size() > 1) n_writers = comm_size() - 1
+    k = 0
+    do id = 1, lay%nblocks
+      lay%owner(id) = -1
+      if (.not. lay%active(id)) cycle
+      lay%owner(id) = mod(k, n_writers)
+      k = k + 1
+    end do
+    call my_blocks(lay, ids)
+    allocate(data(bsize(1), bsize(2), bsize(3), size(ids)))
+
+    ! Rank 0's deck and title are what the file must hold; the other ranks pass junk.
+    deck = ''
+    do k = 1, 2000
+      deck = deck // '  key_' // int_text(k) // ' = ' // int_text(7 * k) // new_line('a')
+    end do
+    deck = '&run' // new_line('a') // deck // '/' // new_line('a')
+    title = 'SABRE unit test ' // tag
+    if (.not. comm_is_root()) then
+      deck = 'not rank 0'
+      title = 'wrong'
+    end if
+    time = 1.0_wp / 3.0_wp
+    coeffs = [1.0_wp / 7.0_wp, -0.0_wp, huge(1.0_wp), tiny(1.0_wp)]
+
+    call h5_create(f, path, lay)
+    do m = 1, n_fields
+      call fill_known(lay, ids, m, data)
+      call h5_write_field(f, trim(field_path(m)), lay, ids, data)
+    end do
+    call h5_write_attr(f, 'time', time)
+    call h5_write_attr(f, 'step', 4242)
+    call h5_write_attr(f, 'coeffs', coeffs)
+    call h5_write_attr(f, 'title', title)
+    call h5_write_attr(f, 'empty', '')
+    call h5_write_attr(f, 'step', 17)   ! replaces the first one
+    call h5_write_text(f, '/input/deck', deck)
+    call h5_write_text(f, '/input/blank', '')
+    call h5_close(f)
+    call xdmf_write('test_hdf5_' // tag // '.xmf', path, lay, ['rho', 'p  '], time)
+
+    ! Read back into the blocks of another owner assignment: active blocks in contiguous
+    ! chunks, in reverse rank order; rank 0 also asks for the inactive blocks.
+    k = 0
+    do id = 1, lay%nblocks
+      if (.not. lay%active(id)) cycle
+      lay%owner(id) = comm_size() - 1 - (k * comm_size()) / n_active
+      k = k + 1
+    end do
+    call my_blocks(lay, ids)
+    if (comm_is_root()) ids = [ids, inactive]
+    deallocate(data)
+    allocate(data(bsize(1), bsize(2), bsize(3), size(ids)))
+
+    call h5_open_read(f, path)
+    do m = 1, n_fields
+      data = -1.0_wp
+      call h5_read_field(f, trim(field_path(m)), lay, ids, data)
+      call check_known(tag, lay, ids, m, data)
+    end do
+
+    call h5_read_attr(f, 'time', time)
+    if (.not. same_bits(time, 1.0_wp / 3.0_wp)) call fail(tag // ': attribute time')
+    call h5_read_attr(f, 'step', step)
+    if (step /= 17) call fail(tag // ': attribute step ' // int_text(step))
+    coeffs = 0.0_wp
+    call h5_read_attr(f, 'coeffs', coeffs)
+    if (.not. all(same_bits(coeffs, [1.0_wp / 7.0_wp, -0.0_wp, huge(1.0_wp), &
+      tiny(1.0_wp)]))) call fail(tag // ': attribute coeffs')
+    call h5_read_attr(f, 'title', title)
+    if (title /= 'SABRE unit test ' // tag) call fail(tag // ': attribute title "' // &
+      trim(title) // '"')
+    empty = 'x'
+    call h5_read_attr(f, 'empty', empty)
+    if (empty /= '') call fail(tag // ': attribute empty "' // trim(empty) // '"')
+    call h5_read_attr(f, 'cells', cells_read)
+    if (any(cells_read /= lay%cells)) call fail(tag // ': attribute cells')
+    call h5_read_attr(f, 'ndim', ndim_read)
+    if (ndim_read /= ndim) call fail(tag // ': attribute ndim')
+    call h5_read_attr(f, 'lo', lohi)
+    if (.not. all(same_bits(lohi, lay%lo))) call fail(tag // ': attribute lo')
+    call h5_read_attr(f, 'hi', lohi)
+    if (.not. all(same_bits(lohi, lay%hi))) call fail(tag // ': attribute hi')
+
+    call h5_read_text(f, '/input/deck', text)
+    if (comm_is_root()) then
+      if (text /= deck .or. len(text) /= len(deck)) call fail(tag // ': text /input/deck')
+    else
+      if (len(text) < 30000) call fail(tag // ': text /input/deck is not rank 0''s')
+    end if
+    call h5_read_text(f, '/input/blank', text)
+    if (len(text) /= 0) call fail(tag // ': text /input/blank not empty')
+
+    if (.not. h5_exists(f, '/fields/rho')) call fail(tag // ': /fields/rho not found')
+    if (.not. h5_exists(f, 'state/deep')) call fail(tag // ': state/deep not found')
+    if (h5_exists(f, '/fields/none')) call fail(tag // ': /fields/none found')
+    if (h5_exists(f, '/nogroup/x/y')) call fail(tag // ': /nogroup/x/y found')
+    call h5_close(f)
+
+    call comm_barrier()
+    if (.not. keep .and. comm_is_root()) then
+      call delete_file(path)
+      call delete_file('test_hdf5_' // tag // '.xmf')
+    end if
+  end subroutine run_case
+
+  subroutine fill_known(lay, ids, m, data)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: ids(:), m
+    real(wp), intent(out) :: data(:, :, :, :)
+    integer :: k, i, j, l, off(3)
+    do k = 1, size(ids)
+      off = block_offset(lay, ids(k))
+      do l = 1, lay%bsize(3)
+        do j = 1, lay%bsize(2)
+          do i = 1, lay%bsize(1)
+            data(i, j, l, k) = known_value(off(1) + i, off(2) + j, off(3) + l, m)
+          end do
+        end do
+      end do
+    end do
+  end subroutine fill_known
+
+  subroutine check_known(tag, lay, ids, m, data)
+    character(len=*), intent(in) :: tag
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: ids(:), m
+    real(wp), intent(in) :: data(:, :, :, :)
+    integer :: k, i, j, l, off(3)
+    real(wp) :: want
+    character(len=160) :: msg
+    do k = 1, size(ids)
+      off = block_offset(lay, ids(k))
+      do l = 1, lay%bsize(3)
+        do j = 1, lay%bsize(2)
+          do i = 1, lay%bsize(1)
+            want = 0.0_wp
+            if (lay%active(ids(k))) want = known_value(off(1) + i, off(2) + j, off(3) + l, m)
+            if (.not. same_bits(data(i, j, l, k), want)) then
+              write(msg, '(a, i0, a, 3(i0, 1x), a, es24.16, a, es24.16)') &
+                ': field ' // trim(field_path(m)) // ' block ', ids(k), ' cell ', &
+                off + [i, j, l], 'read ', data(i, j, l, k), ' want ', want
+              call fail(tag // trim(msg))
+            end if
+          end do
+        end do
+      end do
+    end do
+  end subroutine check_known
+
+  subroutine delete_file(path)
+    character(len=*), intent(in) :: path
+    integer :: u, ios
+    open(newunit=u, file=path, status='old', iostat=ios)
+    if (ios == 0) close(u, status='delete')
+  end subroutine delete_file
+
+  pure function int_text(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=16) :: buf
+    write(buf, '(i0)') i
+    s = trim(buf)
+  end function int_text
+
+end program test_hdf5

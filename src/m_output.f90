@@ -1,0 +1,224 @@
+!> What a run writes and reads back (DESIGN section 7): plot files (fields + XDMF),
+!> checkpoints and restarts, and the diagnostics of a history row. The HDF5 calls live in
+!> m_hdf5_io; here the solver state becomes named fields and back.
+module m_output
+  use m_kinds, only: wp, i8, name_len, path_len
+  use m_simulation, only: sim_t
+  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en
+  use m_euler, only: primitive_row
+  use m_eos, only: eos_temperature, eos_sound_speed2
+  use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
+    h5_read_attr, h5_write_field, h5_read_field, h5_write_text
+  use m_xdmf, only: xdmf_write
+  use m_comm, only: comm_sum_array, comm_max
+  use m_errors, only: stop_collective, log_line
+  implicit none
+  private
+  public :: output_plot, output_checkpoint, output_restart, history_columns, history_values
+  public :: step_file_name
+
+  character(len=name_len), parameter :: state_names(5) = &
+    [character(len=name_len) :: '/state/q1', '/state/q2', '/state/q3', '/state/q4', '/state/q5']
+
+contains
+
+  function step_file_name(sim, prefix, step, ext) result(path)
+    type(sim_t), intent(in) :: sim
+    character(len=*), intent(in) :: prefix, ext
+    integer, intent(in) :: step
+    character(len=path_len) :: path
+    write(path, '(a,"/",a,"_",i6.6,a)') trim(sim%cfg%out_dir), prefix, step, ext
+  end function step_file_name
+
+  !> Write plot_NNNNNN.h5 (NNNNNN = step) and its .xmf with the deck's output fields.
+  subroutine output_plot(sim)
+    type(sim_t), intent(inout) :: sim
+    type(h5_file_t) :: f
+    character(len=path_len) :: path, xmf
+    real(wp), allocatable :: data(:, :, :, :)
+    integer, allocatable :: ids(:)
+    integer :: m, k
+    if (sim%last_plot_step == sim%step) return
+    path = step_file_name(sim, 'plot', sim%step, '.h5')
+    allocate(data(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3), size(sim%blocks)))
+    ids = [(sim%blocks(k)%id, k = 1, size(sim%blocks))]
+    call h5_create(f, path, sim%lay)
+    call h5_write_attr(f, 'time', sim%time)
+    call h5_write_attr(f, 'step', sim%step)
+    call h5_write_attr(f, 'title', trim(sim%cfg%title))
+    do m = 1, sim%cfg%n_fields
+      call field_values(sim, sim%cfg%fields(m), data)
+      call h5_write_field(f, '/fields/' // trim(sim%cfg%fields(m)), sim%lay, ids, data)
+    end do
+    call h5_close(f)
+    k = index(path, '/', back=.true.)
+    xmf = path(1:len_trim(path) - 3) // '.xmf'
+    call xdmf_write(xmf, path(k + 1:), sim%lay, sim%cfg%fields(1:sim%cfg%n_fields), sim%time)
+    sim%plot_count = sim%plot_count + 1
+    sim%last_plot_step = sim%step
+  end subroutine output_plot
+
+  !> One named field over the interiors of this rank's blocks.
+  subroutine field_values(sim, name, data)
+    type(sim_t), intent(in) :: sim
+    character(len=*), intent(in) :: name
+    real(wp), intent(out) :: data(:, :, :, :)
+    integer :: b, j, k, n
+    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, v, w, p, e, aux
+    n = sim%lay%bsize(1)
+    do b = 1, size(sim%blocks)
+      associate (q => sim%blocks(b)%q)
+        do k = 1, sim%lay%bsize(3)
+          do j = 1, sim%lay%bsize(2)
+            call primitive_row(sim%eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
+              q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
+            select case (trim(name))
+            case ('rho')
+              aux = rho
+            case ('u')
+              aux = u
+            case ('v')
+              aux = v
+            case ('w')
+              aux = w
+            case ('p')
+              aux = p
+            case ('e')
+              aux = e
+            case ('T')
+              call eos_temperature(sim%eos, n, rho, e, aux)
+            case ('c')
+              call eos_sound_speed2(sim%eos, n, rho, p, aux)
+              aux = sqrt(max(aux, 0.0_wp))
+            case ('mach')
+              call eos_sound_speed2(sim%eos, n, rho, p, aux)
+              aux = sqrt(u**2 + v**2 + w**2) / sqrt(max(aux, tiny(1.0_wp)))
+            case default
+              aux = 0.0_wp
+            end select
+            data(:, j, k, b) = aux
+          end do
+        end do
+      end associate
+    end do
+  end subroutine field_values
+
+  !> chk_NNNNNN.h5: the conserved state and the clock, enough for a bit-identical restart.
+  subroutine output_checkpoint(sim, deck_text)
+    type(sim_t), intent(inout) :: sim
+    character(len=*), intent(in) :: deck_text
+    type(h5_file_t) :: f
+    real(wp), allocatable :: data(:, :, :, :)
+    integer, allocatable :: ids(:)
+    integer :: m, b, n(3)
+    n = sim%lay%bsize
+    allocate(data(n(1), n(2), n(3), size(sim%blocks)))
+    ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
+    call h5_create(f, step_file_name(sim, 'chk', sim%step, '.h5'), sim%lay)
+    call h5_write_attr(f, 'time', sim%time)
+    call h5_write_attr(f, 'step', sim%step)
+    call h5_write_attr(f, 'plot_count', sim%plot_count)
+    call h5_write_attr(f, 'last_plot_step', sim%last_plot_step)
+    call h5_write_attr(f, 'next_plot_time', sim%next_plot_time)
+    call h5_write_attr(f, 'dt_first', sim%dt_first)
+    call h5_write_attr(f, 'nvar', sim%nvar)
+    do m = 1, sim%nvar
+      do b = 1, size(sim%blocks)
+        data(:, :, :, b) = sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m)
+      end do
+      call h5_write_field(f, trim(state_names(m)), sim%lay, ids, data)
+    end do
+    call h5_write_text(f, '/deck', deck_text)
+    call h5_close(f)
+    call log_line('checkpoint ' // trim(step_file_name(sim, 'chk', sim%step, '.h5')))
+  end subroutine output_checkpoint
+
+  subroutine output_restart(sim, path)
+    type(sim_t), intent(inout) :: sim
+    character(len=*), intent(in) :: path
+    type(h5_file_t) :: f
+    real(wp), allocatable :: data(:, :, :, :)
+    integer, allocatable :: ids(:)
+    integer :: m, b, n(3), cells(3), nvar
+    logical :: exists
+    inquire(file=trim(path), exist=exists)
+    call stop_collective('ERROR ' // trim(sim%cfg%deck_file) // ' &run restart: no such ' // &
+      'checkpoint ''' // trim(path) // ''' (typical value ''out/chk_000100.h5'')', exists)
+    n = sim%lay%bsize
+    allocate(data(n(1), n(2), n(3), size(sim%blocks)))
+    ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
+    call h5_open_read(f, path)
+    call h5_read_attr(f, 'cells', cells)
+    call h5_read_attr(f, 'nvar', nvar)
+    call stop_collective('ERROR ' // trim(sim%cfg%deck_file) // ' &run restart: checkpoint ' // &
+      trim(path) // ' is for another grid or state (cells or variables differ from the deck)', &
+      all(cells == sim%lay%cells) .and. nvar == sim%nvar)
+    call h5_read_attr(f, 'time', sim%time)
+    call h5_read_attr(f, 'step', sim%step)
+    call h5_read_attr(f, 'plot_count', sim%plot_count)
+    call h5_read_attr(f, 'last_plot_step', sim%last_plot_step)
+    call h5_read_attr(f, 'next_plot_time', sim%next_plot_time)
+    call h5_read_attr(f, 'dt_first', sim%dt_first)
+    do m = 1, sim%nvar
+      call h5_read_field(f, trim(state_names(m)), sim%lay, ids, data)
+      do b = 1, size(sim%blocks)
+        sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m) = data(:, :, :, b)
+      end do
+    end do
+    call h5_close(f)
+    sim%restart_step = sim%step
+  end subroutine output_restart
+
+  function history_columns() result(cols)
+    character(len=name_len) :: cols(14)
+    cols = [character(len=name_len) :: 'step', 'time', 'dt', 'mass', 'mom_x', 'mom_y', &
+      'mom_z', 'kinetic', 'internal', 'total_energy', 'max_p', 'max_T', 'max_eps_p', &
+      'fallback_faces']
+  end function history_columns
+
+  !> The history row after 'step': totals (volume-weighted; 2 pi r in axisymmetry) and maxima.
+  function history_values(sim) result(v)
+    type(sim_t), intent(in) :: sim
+    real(wp) :: v(13)
+    real(wp) :: tot(8), vol, r, pmax, tmax
+    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, vv, w, p, e, temp, dv
+    integer :: b, i, j, k, n
+    real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
+    n = sim%lay%bsize(1)
+    tot = 0.0_wp
+    pmax = -huge(1.0_wp)
+    tmax = -huge(1.0_wp)
+    vol = product(sim%lay%dx(1:sim%lay%ndim))
+    do b = 1, size(sim%blocks)
+      associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
+        do i = 1, n
+          dv(i) = vol
+          if (sim%lay%axisymmetric) then
+            r = sim%lay%lo(1) + (real(off(1) + i, wp) - 0.5_wp) * sim%lay%dx(1)
+            dv(i) = vol * two_pi * r
+          end if
+        end do
+        do k = 1, sim%lay%bsize(3)
+          do j = 1, sim%lay%bsize(2)
+            call primitive_row(sim%eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
+              q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, vv, w, p, e)
+            call eos_temperature(sim%eos, n, rho, e, temp)
+            tot(1) = tot(1) + sum(dv * rho)
+            tot(2) = tot(2) + sum(dv * q(1:n, j, k, i_mx))
+            tot(3) = tot(3) + sum(dv * q(1:n, j, k, i_my))
+            tot(4) = tot(4) + sum(dv * q(1:n, j, k, i_mz))
+            tot(5) = tot(5) + sum(dv * 0.5_wp * rho * (u**2 + vv**2 + w**2))
+            tot(6) = tot(6) + sum(dv * rho * e)
+            tot(7) = tot(7) + sum(dv * q(1:n, j, k, i_en))
+            pmax = max(pmax, maxval(p))
+            tmax = max(tmax, maxval(temp))
+          end do
+        end do
+      end associate
+    end do
+    tot(8) = real(sim%fallback_step, wp)
+    call comm_sum_array(tot(1:7))
+    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), 0.0_wp, tot(8)]
+  end function history_values
+
+end module m_output

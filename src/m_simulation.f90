@@ -1,0 +1,182 @@
+!> The simulation as one object: the resolved deck, the block layout, this rank's blocks,
+!> the halo plan, the equation of state, boundary conditions and scheme choices, and the
+!> clock (time, step, output schedule). sim_setup turns a deck into a ready-to-run
+!> simulation: layout, rigid-obstacle blocks, METIS partition, allocation and the initial
+!> state painted from the bodies (or read from a checkpoint by m_output).
+module m_simulation
+  use m_kinds, only: wp, i8, name_len
+  use m_config, only: config_t, material_t, is_set
+  use m_layout, only: layout_t, layout_init, block_offset
+  use m_blocks, only: block_t, blocks_allocate
+  use m_halo, only: halo_plan_t, halo_plan_build
+  use m_partition, only: partition_blocks
+  use m_boundary, only: bc_kind_t, bc_from_name
+  use m_eos, only: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_energy
+  use m_euler, only: euler_work_t, euler_work_init
+  use m_reconstruct, only: scheme_from_name
+  use m_flux, only: flux_from_name
+  use m_scene, only: inside_body, cell_centre, rigid_block_status
+  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler
+  use m_timers, only: timers_t
+  use m_comm, only: comm_rank
+  use m_errors, only: stop_collective
+  implicit none
+  private
+  public :: sim_t, sim_setup, sim_paint_initial_state, material_index
+
+  type :: sim_t
+    type(config_t) :: cfg
+    type(layout_t) :: lay
+    type(block_t), allocatable :: blocks(:)
+    type(halo_plan_t) :: plan
+    type(euler_work_t) :: work
+    type(eos_t) :: eos
+    type(bc_kind_t) :: bc
+    integer :: nvar = n_euler
+    integer :: scheme = 3, flux = 1
+    real(wp) :: time = 0.0_wp, dt = 0.0_wp, dt_first = 0.0_wp
+    integer :: step = 0
+    integer :: plot_count = 0          !< plot files written so far
+    integer :: last_plot_step = -1
+    real(wp) :: next_plot_time = 0.0_wp
+    integer(i8) :: cell_steps = 0      !< this rank's cells x steps, for the cost report
+    integer(i8) :: fallback_faces = 0  !< faces reconstructed at first order (this rank)
+    integer(i8) :: fallback_step = 0   !< the same, in the last step, summed over ranks
+    integer :: restart_step = 0
+    type(timers_t) :: timers
+    real(wp) :: wall_start = 0.0_wp
+  end type sim_t
+
+contains
+
+  integer function material_index(cfg, name) result(k)
+    type(config_t), intent(in) :: cfg
+    character(len=*), intent(in) :: name
+    do k = 1, cfg%n_materials
+      if (cfg%materials(k)%name == name) return
+    end do
+    k = 0
+  end function material_index
+
+  subroutine sim_setup(cfg, sim)
+    type(config_t), intent(in) :: cfg
+    type(sim_t), intent(inout) :: sim
+    logical :: periodic(3)
+    integer :: d, b, id, status, km
+    integer, allocatable :: work(:)
+    character(len=8) :: deckname
+    type(material_t) :: mat
+    sim%cfg = cfg
+    deckname = 'deck'
+    do d = 1, 3
+      periodic(d) = trim(cfg%bc_lo(d)) == 'periodic'
+      sim%bc%lo(d) = bc_from_name(cfg%bc_lo(d))
+      sim%bc%hi(d) = bc_from_name(cfg%bc_hi(d))
+    end do
+    sim%bc%velocity = cfg%bc_velocity
+    sim%bc%rise_time = cfg%bc_rise_time
+    call layout_init(sim%lay, cfg%ndim, cfg%cells, cfg%block, cfg%lo, cfg%hi, periodic, &
+      trim(cfg%geometry) == 'axisymmetric')
+    ! bodies: rigid obstacles switch off whole blocks; other materials wait for interfaces
+    do b = 1, cfg%n_bodies
+      associate (body => cfg%bodies(b))
+        if (trim(body%material) == 'rigid') then
+          do id = 1, sim%lay%nblocks
+            status = rigid_block_status(sim%lay, id, body)
+            call stop_collective('ERROR ' // trim(base_name(cfg%deck_file)) // ' &body ' // &
+              trim(body%name) // ': a rigid body must cover whole blocks in this version ' // &
+              '(align its faces with block boundaries, or use smaller blocks)', status /= 1)
+            if (status == 2) sim%lay%active(id) = .false.
+          end do
+        else if (body%material /= cfg%base_material) then
+          call stop_collective('ERROR ' // trim(base_name(cfg%deck_file)) // ' &body ' // &
+            trim(body%name) // ' material: bodies of a material other than the base ' // &
+            'material (' // trim(cfg%base_material) // ') need interfaces, which this ' // &
+            'version does not have (typical value material = ''' // &
+            trim(cfg%base_material) // ''')', .false.)
+        end if
+      end associate
+    end do
+    allocate(work(sim%lay%nblocks))
+    work = product(sim%lay%bsize)
+    call partition_blocks(sim%lay, work)
+    call blocks_allocate(sim%lay, comm_rank(), sim%nvar, sim%blocks)
+    call halo_plan_build(sim%lay, sim%blocks, sim%plan)
+    call euler_work_init(sim%lay, sim%work)
+    km = material_index(cfg, cfg%base_material)
+    mat = cfg%materials(km)
+    sim%eos = eos_of(mat)
+    sim%scheme = scheme_from_name(cfg%scheme)
+    sim%flux = flux_from_name(cfg%flux)
+  end subroutine sim_setup
+
+  function eos_of(mat) result(eos)
+    type(material_t), intent(in) :: mat
+    type(eos_t) :: eos
+    select case (trim(mat%eos))
+    case ('stiffened_gas')
+      eos%kind = eos_stiffened_gas
+    case ('mie_gruneisen')
+      eos%kind = eos_mie_gruneisen
+    case default
+      eos%kind = eos_ideal_gas
+    end select
+    if (is_set(mat%gamma)) eos%gamma = mat%gamma
+    if (is_set(mat%p_inf)) eos%p_inf = mat%p_inf
+    if (is_set(mat%rho0)) eos%rho0 = mat%rho0
+    if (is_set(mat%c0)) eos%c0 = mat%c0
+    if (is_set(mat%s)) eos%s = mat%s
+    if (is_set(mat%gruneisen)) eos%gruneisen = mat%gruneisen
+    if (is_set(mat%cv)) eos%cv = mat%cv
+    if (is_set(mat%T0)) eos%T0 = mat%T0
+  end function eos_of
+
+  !> Initial state: the base material at its reference state at rest, then every body of
+  !> the base material in deck order.
+  subroutine sim_paint_initial_state(sim)
+    type(sim_t), intent(inout) :: sim
+    integer :: b, i, j, k, nb, km
+    real(wp) :: x(3), rho, vel(3), p, e(1)
+    type(material_t) :: mat
+    km = material_index(sim%cfg, sim%cfg%base_material)
+    mat = sim%cfg%materials(km)
+    do b = 1, size(sim%blocks)
+      associate (blk => sim%blocks(b))
+        do k = 1, sim%lay%bsize(3)
+          do j = 1, sim%lay%bsize(2)
+            do i = 1, sim%lay%bsize(1)
+              x = cell_centre(sim%lay, blk%offset, i, j, k)
+              rho = mat%rho0
+              p = mat%p0
+              vel = 0.0_wp
+              do nb = 1, sim%cfg%n_bodies
+                associate (body => sim%cfg%bodies(nb))
+                  if (trim(body%material) == 'rigid') cycle
+                  if (.not. inside_body(body, sim%lay%ndim, x)) cycle
+                  rho = body%rho
+                  p = body%p
+                  vel = body%velocity
+                end associate
+              end do
+              call eos_energy(sim%eos, 1, [rho], [p], e)
+              blk%q(i, j, k, i_rho) = rho
+              blk%q(i, j, k, i_mx) = rho * vel(1)
+              blk%q(i, j, k, i_my) = rho * vel(2)
+              blk%q(i, j, k, i_mz) = rho * vel(3)
+              blk%q(i, j, k, i_en) = rho * (e(1) + 0.5_wp * sum(vel**2))
+            end do
+          end do
+        end do
+      end associate
+    end do
+  end subroutine sim_paint_initial_state
+
+  pure function base_name(path) result(name)
+    character(len=*), intent(in) :: path
+    character(len=len(path)) :: name
+    integer :: k
+    k = index(path, '/', back=.true.)
+    name = path(k + 1:)
+  end function base_name
+
+end module m_simulation
