@@ -137,6 +137,7 @@ contains
     type(sim_t), intent(inout) :: sim
     integer :: b, i, j, k, nb, km
     real(wp) :: x(3), rho, vel(3), p, e(1)
+    real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
     type(material_t) :: mat
     km = material_index(sim%cfg, sim%cfg%base_material)
     mat = sim%cfg%materials(km)
@@ -153,7 +154,11 @@ contains
                 associate (body => sim%cfg%bodies(nb))
                   if (trim(body%material) == 'rigid') cycle
                   if (.not. inside_body(body, sim%lay%ndim, x)) cycle
-                  rho = body%rho
+                  ! the exact cell average of the sinusoid, so that smooth data start at
+                  ! the order of the scheme rather than at second order
+                  rho = body%rho * (1.0_wp + body%amplitude &
+                    * sin(two_pi * dot_product(body%wavevector, x)) &
+                    * product(sinc(0.5_wp * two_pi * body%wavevector * sim%lay%dx)))
                   p = body%p
                   vel = body%velocity
                 end associate
@@ -170,6 +175,12 @@ contains
       end associate
     end do
   end subroutine sim_paint_initial_state
+
+  elemental real(wp) function sinc(z)
+    real(wp), intent(in) :: z
+    sinc = 1.0_wp
+    if (abs(z) > 1.0e-8_wp) sinc = sin(z) / z
+  end function sinc
 
   pure function base_name(path) result(name)
     character(len=*), intent(in) :: path

@@ -15,7 +15,7 @@ program sabre
   use m_simulation, only: sim_t, sim_setup, sim_paint_initial_state
   use m_output, only: output_restart
   use m_timeloop, only: run_time_loop
-  use m_timers, only: timer_total
+  use m_timers, only: timer_total, memory_kb
   implicit none
   type(config_t) :: cfg
   type(sim_t) :: sim
@@ -23,7 +23,7 @@ program sabre
   character(len=path_len), allocatable :: overrides(:)
   character(len=:), allocatable :: deck_text
   integer :: nargs, k
-  real(wp) :: wall
+  real(wp) :: wall, base_kb, loop_wall
 
   call comm_init()
   wall = comm_wtime()
@@ -41,10 +41,11 @@ program sabre
   do k = 2, nargs
     call get_command_argument(k, overrides(k - 1))
   end do
+  call h5_init()
+  base_kb = memory_kb('VmRSS')
   call deck_read(trim(deck_path), overrides, cfg)
   call sim_setup(cfg, sim)
   call deck_prepare_output(cfg)
-  call h5_init()
   call log_open(trim(cfg%out_dir) // '/run.log')
   sim%wall_start = wall
   call write_run_header(sim)
@@ -55,8 +56,10 @@ program sabre
   else
     call sim_paint_initial_state(sim)
   end if
+  loop_wall = comm_wtime()
   call run_time_loop(sim, deck_text)
-  call write_run_footer(sim, comm_wtime() - wall)
+  loop_wall = comm_wtime() - loop_wall
+  call write_run_footer(sim, comm_wtime() - wall, loop_wall, base_kb)
   call log_close()
   call h5_finalize()
   call comm_exit(0)
@@ -123,11 +126,12 @@ contains
     end do
   end function eos_name
 
-  subroutine write_run_footer(s, elapsed)
+  subroutine write_run_footer(s, elapsed, loop, base)
     type(sim_t), intent(inout) :: s
-    real(wp), intent(in) :: elapsed
+    real(wp), intent(in) :: elapsed, loop, base
     character(len=line_len) :: line
     integer(i8) :: cs, nfall
+    real(wp) :: cells, peak, base_sum, arrays
     cs = comm_sum(s%cell_steps)
     nfall = comm_sum(s%fallback_faces)
     write(line, '(a,i0,a,es14.7,a,i0,a)') 'end: step ', s%step, ', time ', s%time, &
@@ -141,6 +145,20 @@ contains
     call log_line(line)
     write(line, '(a,es11.4,a,es11.4,a)') 'cost: ', real(cs, wp), ' cell-steps, ', &
       real(cs, wp) / max(elapsed, 1.0e-9_wp) / comm_size(), ' cell-steps per second per rank'
+    call log_line(line)
+    write(line, '(a,es11.4,a,f10.3,a)') 'loop: ', real(cs, wp), ' cell-steps in ', loop, ' s'
+    call log_line(line)
+    cells = real(count(s%lay%active), wp) * product(s%lay%bsize)
+    peak = comm_sum(memory_kb('VmHWM'))
+    base_sum = comm_sum(base)
+    arrays = 8.0_wp * s%nvar * (product(s%lay%bsize + 2 * s%lay%ng) &
+      + 2 * product(s%lay%bsize)) / product(s%lay%bsize)
+    write(line, '(a,f10.1,a,f10.1,a,f8.1,a)') 'memory: peak resident ', peak / 1024, &
+      ' MB over all ranks (', base_sum / 1024, ' MB before the grid), ', &
+      (peak - base_sum) * 1024 / cells, ' bytes per cell above the baseline'
+    call log_line(line)
+    write(line, '(a,f8.1,a)') 'memory: solver arrays ', arrays, ' bytes per cell (state with ' // &
+      'halo, start-of-step copy, right-hand side)'
     call log_line(line)
     call log_line('results: ' // trim(s%cfg%out_dir))
   end subroutine write_run_footer

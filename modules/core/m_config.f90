@@ -46,6 +46,8 @@ module m_config
     real(wp) :: rho = unset         !< unset: the material's rho0
     real(wp) :: p = unset           !< unset: the material's p0
     real(wp) :: T = unset           !< optional; when set (and p unset) p follows from rho, T
+    real(wp) :: amplitude = 0.0_wp  !< density perturbation rho (1 + amplitude sin(2 pi k.x))
+    real(wp) :: wavevector(3) = 0.0_wp   !< k (waves per unit length) of that perturbation
   end type body_t
 
   type :: config_t

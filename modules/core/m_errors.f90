@@ -8,16 +8,17 @@ module m_errors
   use m_comm, only: comm_abort, comm_exit, comm_is_root, comm_minloc_rank, comm_rank
   implicit none
   private
-  public :: fatal, stop_collective, log_open, log_close, log_line, log_unit
+  public :: fatal, stop_collective, log_open, log_close, log_line
 
-  integer :: log_unit = -1
+  integer :: log_unit = 0
+  logical :: log_is_open = .false.   !< newunit numbers are negative: keep a flag
 
 contains
 
   subroutine fatal(where, what)
     character(len=*), intent(in) :: where, what
     write(0, '(a)') 'ERROR [' // trim(where) // ']: ' // trim(what)
-    if (log_unit > 0) then
+    if (log_is_open) then
       write(log_unit, '(a)') 'ERROR [' // trim(where) // ']: ' // trim(what)
       flush(log_unit)
     end if
@@ -32,9 +33,9 @@ contains
     if (who < 0) return
     if (comm_rank() == who) then
       write(0, '(a)') trim(msg)
-      if (log_unit > 0) write(log_unit, '(a)') trim(msg)
+      if (log_is_open) write(log_unit, '(a)') trim(msg)
     end if
-    if (log_unit > 0) close(log_unit)
+    if (log_is_open) close(log_unit)
     call comm_exit(1)
   end subroutine stop_collective
 
@@ -43,20 +44,21 @@ contains
     integer :: ios
     if (.not. comm_is_root()) return
     open(newunit=log_unit, file=trim(path), status='replace', action='write', iostat=ios)
+    log_is_open = (ios == 0)
     if (ios /= 0) call fatal('log_open', 'cannot write ' // trim(path) // &
       ': check that out_dir is writable')
   end subroutine log_open
 
   subroutine log_close()
-    if (log_unit > 0) close(log_unit)
-    log_unit = -1
+    if (log_is_open) close(log_unit)
+    log_is_open = .false.
   end subroutine log_close
 
   subroutine log_line(text)
     character(len=*), intent(in) :: text
     if (.not. comm_is_root()) return
     write(6, '(a)') trim(text)
-    if (log_unit > 0) write(log_unit, '(a)') trim(text)
+    if (log_is_open) write(log_unit, '(a)') trim(text)
   end subroutine log_line
 
 end module m_errors

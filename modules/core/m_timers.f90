@@ -1,11 +1,11 @@
-!> Wall-clock timers of the phases of a run, reported in run.log. A timer_t holds one
-!> accumulator per named phase; no module-level state.
+!> Wall-clock timers of the phases of a run and the memory the process holds, reported in
+!> run.log. A timer_t holds one accumulator per named phase; no module-level state.
 module m_timers
   use m_kinds, only: wp, name_len
   use m_comm, only: comm_wtime
   implicit none
   private
-  public :: timers_t, timer_start, timer_stop, timer_total
+  public :: timers_t, timer_start, timer_stop, timer_total, memory_kb
 
   integer, parameter :: max_phases = 16
 
@@ -50,5 +50,26 @@ contains
     character(len=*), intent(in) :: name
     timer_total = t%total(phase_index(t, name))
   end function timer_total
+
+  !> A memory figure of this process in kB from /proc/self/status ('VmHWM' = peak resident,
+  !> 'VmRSS' = resident now); 0 where the file does not exist.
+  real(wp) function memory_kb(key) result(kb)
+    character(len=*), intent(in) :: key
+    character(len=256) :: line
+    integer :: u, ios, k
+    kb = 0.0_wp
+    open(newunit=u, file='/proc/self/status', action='read', iostat=ios)
+    if (ios /= 0) return
+    do
+      read(u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (index(line, key // ':') == 1) then
+        k = index(line, ':')
+        read(line(k + 1:), *, iostat=ios) kb
+        exit
+      end if
+    end do
+    close(u)
+  end function memory_kb
 
 end module m_timers

@@ -10,7 +10,8 @@ module m_history
   public :: history_t, history_open, history_write, history_close
 
   type :: history_t
-    integer :: unit = -1
+    integer :: unit = 0
+    logical :: is_open = .false.
   end type history_t
 
 contains
@@ -55,6 +56,7 @@ contains
       end if
     end if
     if (ios /= 0) call fatal('history_open', 'cannot write ' // trim(path))
+    h%is_open = .true.
   end subroutine history_open
 
   subroutine history_write(h, step, values)
@@ -62,7 +64,7 @@ contains
     integer, intent(in) :: step
     real(wp), intent(in) :: values(:)
     integer :: k
-    if (h%unit < 0) return
+    if (.not. h%is_open) return
     write(h%unit, '(i0)', advance='no') step
     do k = 1, size(values)
       write(h%unit, '(",",es24.16e3)', advance='no') values(k)
@@ -73,8 +75,8 @@ contains
 
   subroutine history_close(h)
     type(history_t), intent(inout) :: h
-    if (h%unit > 0) close(h%unit)
-    h%unit = -1
+    if (h%is_open) close(h%unit)
+    h%is_open = .false.
   end subroutine history_close
 
 end module m_history

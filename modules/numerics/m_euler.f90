@@ -73,7 +73,7 @@ contains
     real(wp), intent(out) :: rhs(:, :, :, :)
     type(euler_work_t), intent(inout) :: work
     integer, intent(inout) :: nfallback
-    integer :: lo(3), hi(3), j, k, d, n, g, i, m, perm(5), nr
+    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(5), nr
     real(wp) :: rdx, r, ur
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
@@ -163,32 +163,42 @@ contains
 
     subroutine pencil_flux(nn, gg)
       integer, intent(in) :: nn, gg
-      integer :: f
-      associate (wl => work%wl(0:nn, :), wr => work%wr(0:nn, :), el => work%el(0:nn), &
-          er => work%er(0:nn), cl => work%cl(0:nn), cr => work%cr(0:nn))
-        call reconstruct_faces(scheme, nn, gg, 5, work%pw(1-gg:nn+gg, :), wl, wr)
-        call eos_sound_speed2(eos, nn + 1, wl(:, 1), wl(:, 5), cl)
-        call eos_sound_speed2(eos, nn + 1, wr(:, 1), wr(:, 5), cr)
-        do f = 0, nn
-          if (wl(f, 1) > 0.0_wp .and. wr(f, 1) > 0.0_wp .and. cl(f) > 0.0_wp &
-            .and. cr(f) > 0.0_wp) cycle
-          nfallback = nfallback + 1
-          do m = 1, 5
-            wl(f, m) = work%pw(f, m)
-            wr(f, m) = work%pw(f + 1, m)
-          end do
-          call eos_sound_speed2(eos, 1, wl(f:f, 1), wl(f:f, 5), cl(f:f))
-          call eos_sound_speed2(eos, 1, wr(f:f, 1), wr(f:f, 5), cr(f:f))
-        end do
-        cl = sqrt(max(cl, 0.0_wp))
-        cr = sqrt(max(cr, 0.0_wp))
-        call eos_energy(eos, nn + 1, wl(:, 1), wl(:, 5), el)
-        call eos_energy(eos, nn + 1, wr(:, 1), wr(:, 5), er)
-        call face_flux(flux_kind, nn + 1, wl, wr, el, er, cl, cr, work%f(0:nn, :))
-      end associate
+      call faces_and_fluxes(eos, scheme, flux_kind, nn, gg, work%pw(1-gg:nn+gg, :), &
+        work%wl(0:nn, :), work%wr(0:nn, :), work%el(0:nn), work%er(0:nn), work%cl(0:nn), &
+        work%cr(0:nn), work%f(0:nn, :), nfallback)
     end subroutine pencil_flux
 
   end subroutine euler_rhs
+
+  !> Face states and fluxes of one pencil of n cells: reconstruct, test admissibility (falling
+  !> back to the cell values where a face state has rho <= 0 or c^2 <= 0), then the flux.
+  subroutine faces_and_fluxes(eos, scheme, flux_kind, n, g, pw, wl, wr, el, er, cl, cr, f, &
+      nfallback)
+    type(eos_t), intent(in) :: eos
+    integer, intent(in) :: scheme, flux_kind, n, g
+    real(wp), intent(in) :: pw(1-g:n+g, 5)
+    real(wp), intent(out) :: wl(0:n, 5), wr(0:n, 5), el(0:n), er(0:n), cl(0:n), cr(0:n)
+    real(wp), intent(out) :: f(0:n, 5)
+    integer, intent(inout) :: nfallback
+    integer :: i
+    call reconstruct_faces(scheme, n, g, 5, pw, wl, wr)
+    call eos_sound_speed2(eos, n + 1, wl(:, 1), wl(:, 5), cl)
+    call eos_sound_speed2(eos, n + 1, wr(:, 1), wr(:, 5), cr)
+    do i = 0, n
+      if (wl(i, 1) > 0.0_wp .and. wr(i, 1) > 0.0_wp .and. cl(i) > 0.0_wp &
+        .and. cr(i) > 0.0_wp) cycle
+      nfallback = nfallback + 1
+      wl(i, :) = pw(i, :)
+      wr(i, :) = pw(i + 1, :)
+      call eos_sound_speed2(eos, 1, wl(i:i, 1), wl(i:i, 5), cl(i:i))
+      call eos_sound_speed2(eos, 1, wr(i:i, 1), wr(i:i, 5), cr(i:i))
+    end do
+    cl = sqrt(max(cl, 0.0_wp))
+    cr = sqrt(max(cr, 0.0_wp))
+    call eos_energy(eos, n + 1, wl(:, 1), wl(:, 5), el)
+    call eos_energy(eos, n + 1, wr(:, 1), wr(:, 5), er)
+    call face_flux(flux_kind, n + 1, wl, wr, el, er, cl, cr, f)
+  end subroutine faces_and_fluxes
 
   !> Largest sum over directions of (|u_d| + c) / dx_d over the interior: dt = cfl / rate.
   !> Also reports whether every interior cell is admissible (rho > 0, c^2 > 0, finite).

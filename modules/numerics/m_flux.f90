@@ -1,6 +1,6 @@
 !> Numerical fluxes of the Euler equations across the faces of one pencil
-!> (manual/theory.md section 3): local Lax-Friedrichs (Rusanov) and HLLC (Toro, Speares and
-!> Toward 1994) with Davis wave-speed estimates. States are primitive, in the frame of the
+!> (manual/theory.md section 3): local Lax-Friedrichs (Rusanov) and HLLC (Toro, Spruce and
+!> Speares 1994) with Davis wave-speed estimates. States are primitive, in the frame of the
 !> pencil: (rho, u_normal, u_t1, u_t2, p), with the specific internal energy e and the sound
 !> speed c supplied by the caller (from the EOS), so the flux is EOS-independent.
 module m_flux
