@@ -18,13 +18,13 @@ module m_euler
   public :: euler_work_t, euler_work_init, euler_rhs, euler_max_rate, rk_stage_update
   public :: primitive_row
 
-  !> Scratch space for one block and one pencil, allocated once per run.
+  !> Scratch space for one block and one bundle of pencils, allocated once per run. The
+  !> bundle buffers are flat and take the shape (nb, cells along the pencil, 5) of each use.
   type :: euler_work_t
     real(wp), allocatable :: prim(:, :, :, :)      !< (padded block, 5): rho, u, v, w, p
-    real(wp), allocatable :: pw(:, :)              !< pencil of primitives (1-ng:n+ng, 5)
-    real(wp), allocatable :: wl(:, :), wr(:, :)    !< face states (0:n, 5)
-    real(wp), allocatable :: f(:, :)               !< face fluxes (0:n, 5)
-    real(wp), allocatable :: el(:), er(:), cl(:), cr(:)
+    real(wp), allocatable :: pw(:)                 !< primitives of a bundle (nb, 1-g:n+g, 5)
+    real(wp), allocatable :: wl(:), wr(:), f(:)    !< face states and fluxes (nb, 0:n, 5)
+    real(wp), allocatable :: el(:), er(:), cl(:), cr(:)   !< (nb, 0:n)
     real(wp), allocatable :: row(:)
   end type euler_work_t
 
@@ -33,15 +33,19 @@ contains
   subroutine euler_work_init(lay, work)
     type(layout_t), intent(in) :: lay
     type(euler_work_t), intent(out) :: work
-    integer :: lo(3), hi(3), nmax, gmax
+    integer :: lo(3), hi(3), nmax, gmax, nbmax
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
     nmax = maxval(lay%bsize)
     gmax = maxval(lay%ng)
+    nbmax = maxval(lay%bsize)
     allocate(work%prim(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), 5))
-    allocate(work%pw(1-gmax:nmax+gmax, 5), work%wl(0:nmax, 5), work%wr(0:nmax, 5))
-    allocate(work%f(0:nmax, 5), work%el(0:nmax), work%er(0:nmax), work%cl(0:nmax))
-    allocate(work%cr(0:nmax), work%row(lo(1):hi(1)))
+    allocate(work%pw(nbmax * (nmax + 2 * gmax) * 5))
+    allocate(work%wl(nbmax * (nmax + 1) * 5), work%wr(nbmax * (nmax + 1) * 5))
+    allocate(work%f(nbmax * (nmax + 1) * 5))
+    allocate(work%el(nbmax * (nmax + 1)), work%er(nbmax * (nmax + 1)))
+    allocate(work%cl(nbmax * (nmax + 1)), work%cr(nbmax * (nmax + 1)))
+    allocate(work%row(lo(1):hi(1)))
   end subroutine euler_work_init
 
   !> Primitive variables (rho, u, v, w, p) of one row of cells i = lo..hi.
@@ -73,7 +77,7 @@ contains
     real(wp), intent(out) :: rhs(:, :, :, :)
     type(euler_work_t), intent(inout) :: work
     integer, intent(inout) :: nfallback
-    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(5), nr
+    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(5), nr, nb
     real(wp) :: rdx, r, ur
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
@@ -90,24 +94,37 @@ contains
       n = lay%bsize(d)
       g = lay%ng(d)
       rdx = 1.0_wp / lay%dx(d)
-      ! pencil frame: (rho, u_normal, u_t1, u_t2, p)
+      ! pencil frame: (rho, u_normal, u_t1, u_t2, p); bundles of pencils, the bundle index
+      ! contiguous: x pencils bundled over j, y and z pencils over i
       select case (d)
       case (1)
         perm = [1, 2, 3, 4, 5]
+        nb = lay%bsize(2)
+        do k = 1, lay%bsize(3)
+          call bundle_x(k, nb, n, g, work%pw)
+          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, work%pw, work%wl, work%wr, &
+            work%el, work%er, work%cl, work%cr, work%f, nfallback)
+          call scatter_x(k, nb, n, work%f)
+        end do
       case (2)
         perm = [1, 3, 2, 4, 5]
+        nb = lay%bsize(1)
+        do k = 1, lay%bsize(3)
+          call bundle_y(k, nb, n, g, work%pw)
+          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, work%pw, work%wl, work%wr, &
+            work%el, work%er, work%cl, work%cr, work%f, nfallback)
+          call scatter_y(k, nb, n, work%f)
+        end do
       case default
         perm = [1, 4, 2, 3, 5]
-      end select
-      do k = 1, merge(1, lay%bsize(3), d == 3)
-        do j = 1, merge(1, lay%bsize(2), d == 2)
-          do i = 1, merge(1, lay%bsize(1), d == 1)
-            call gather(d, i, j, k)
-            call pencil_flux(n, g)
-            call scatter(d, i, j, k)
-          end do
+        nb = lay%bsize(1)
+        do j = 1, lay%bsize(2)
+          call bundle_z(j, nb, n, g, work%pw)
+          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, work%pw, work%wl, work%wr, &
+            work%el, work%er, work%cl, work%cr, work%f, nfallback)
+          call scatter_z(j, nb, n, work%f)
         end do
-      end do
+      end select
     end do
     if (lay%axisymmetric) then
       do k = 1, lay%bsize(3)
@@ -127,77 +144,116 @@ contains
 
   contains
 
-    subroutine gather(dd, i0, j0, k0)
-      integer, intent(in) :: dd, i0, j0, k0
-      integer :: mm
+    subroutine bundle_x(k0, nbb, nn, gg, pw)
+      integer, intent(in) :: k0, nbb, nn, gg
+      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, 5)
+      integer :: mm, ii, jj
       do mm = 1, 5
-        select case (dd)
-        case (1)
-          work%pw(1-g:n+g, mm) = work%prim(1-g:n+g, j0, k0, perm(mm))
-        case (2)
-          work%pw(1-g:n+g, mm) = work%prim(i0, 1-g:n+g, k0, perm(mm))
-        case default
-          work%pw(1-g:n+g, mm) = work%prim(i0, j0, 1-g:n+g, perm(mm))
-        end select
+        do ii = 1 - gg, nn + gg
+          do jj = 1, nbb
+            pw(jj, ii, mm) = work%prim(ii, jj, k0, perm(mm))
+          end do
+        end do
       end do
-    end subroutine gather
+    end subroutine bundle_x
 
-    subroutine scatter(dd, i0, j0, k0)
-      integer, intent(in) :: dd, i0, j0, k0
-      integer :: mm, qm
+    subroutine scatter_x(k0, nbb, nn, f)
+      integer, intent(in) :: k0, nbb, nn
+      real(wp), intent(in) :: f(nbb, 0:nn, 5)
+      integer :: mm, ii, jj
       do mm = 1, 5
-        qm = perm(mm)
-        select case (dd)
-        case (1)
-          rhs(1:n, j0, k0, qm) = rhs(1:n, j0, k0, qm) &
-            - rdx * (work%f(1:n, mm) - work%f(0:n-1, mm))
-        case (2)
-          rhs(i0, 1:n, k0, qm) = rhs(i0, 1:n, k0, qm) &
-            - rdx * (work%f(1:n, mm) - work%f(0:n-1, mm))
-        case default
-          rhs(i0, j0, 1:n, qm) = rhs(i0, j0, 1:n, qm) &
-            - rdx * (work%f(1:n, mm) - work%f(0:n-1, mm))
-        end select
+        do jj = 1, nbb
+          do ii = 1, nn
+            rhs(ii, jj, k0, perm(mm)) = rhs(ii, jj, k0, perm(mm)) &
+              - rdx * (f(jj, ii, mm) - f(jj, ii - 1, mm))
+          end do
+        end do
       end do
-    end subroutine scatter
+    end subroutine scatter_x
 
-    subroutine pencil_flux(nn, gg)
-      integer, intent(in) :: nn, gg
-      call faces_and_fluxes(eos, scheme, flux_kind, nn, gg, work%pw(1-gg:nn+gg, :), &
-        work%wl(0:nn, :), work%wr(0:nn, :), work%el(0:nn), work%er(0:nn), work%cl(0:nn), &
-        work%cr(0:nn), work%f(0:nn, :), nfallback)
-    end subroutine pencil_flux
+    subroutine bundle_y(k0, nbb, nn, gg, pw)
+      integer, intent(in) :: k0, nbb, nn, gg
+      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, 5)
+      integer :: mm, jj
+      do mm = 1, 5
+        do jj = 1 - gg, nn + gg
+          pw(:, jj, mm) = work%prim(1:nbb, jj, k0, perm(mm))
+        end do
+      end do
+    end subroutine bundle_y
+
+    subroutine scatter_y(k0, nbb, nn, f)
+      integer, intent(in) :: k0, nbb, nn
+      real(wp), intent(in) :: f(nbb, 0:nn, 5)
+      integer :: mm, jj
+      do mm = 1, 5
+        do jj = 1, nn
+          rhs(1:nbb, jj, k0, perm(mm)) = rhs(1:nbb, jj, k0, perm(mm)) &
+            - rdx * (f(:, jj, mm) - f(:, jj - 1, mm))
+        end do
+      end do
+    end subroutine scatter_y
+
+    subroutine bundle_z(j0, nbb, nn, gg, pw)
+      integer, intent(in) :: j0, nbb, nn, gg
+      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, 5)
+      integer :: mm, kk
+      do mm = 1, 5
+        do kk = 1 - gg, nn + gg
+          pw(:, kk, mm) = work%prim(1:nbb, j0, kk, perm(mm))
+        end do
+      end do
+    end subroutine bundle_z
+
+    subroutine scatter_z(j0, nbb, nn, f)
+      integer, intent(in) :: j0, nbb, nn
+      real(wp), intent(in) :: f(nbb, 0:nn, 5)
+      integer :: mm, kk
+      do mm = 1, 5
+        do kk = 1, nn
+          rhs(1:nbb, j0, kk, perm(mm)) = rhs(1:nbb, j0, kk, perm(mm)) &
+            - rdx * (f(:, kk, mm) - f(:, kk - 1, mm))
+        end do
+      end do
+    end subroutine scatter_z
 
   end subroutine euler_rhs
 
-  !> Face states and fluxes of one pencil of n cells: reconstruct, test admissibility (falling
-  !> back to the cell values where a face state has rho <= 0 or c^2 <= 0), then the flux.
-  subroutine faces_and_fluxes(eos, scheme, flux_kind, n, g, pw, wl, wr, el, er, cl, cr, f, &
-      nfallback)
+  !> Face states and fluxes of a bundle of nb pencils of n cells: reconstruct, test
+  !> admissibility (falling back to the cell values where a face state has rho <= 0 or
+  !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
+  subroutine faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, pw, wl, wr, el, er, cl, cr, &
+      f, nfallback)
     type(eos_t), intent(in) :: eos
-    integer, intent(in) :: scheme, flux_kind, n, g
-    real(wp), intent(in) :: pw(1-g:n+g, 5)
-    real(wp), intent(out) :: wl(0:n, 5), wr(0:n, 5), el(0:n), er(0:n), cl(0:n), cr(0:n)
-    real(wp), intent(out) :: f(0:n, 5)
+    integer, intent(in) :: scheme, flux_kind, nb, n, g
+    real(wp), intent(in) :: pw(nb, 1-g:n+g, 5)
+    real(wp), intent(out) :: wl(nb, 0:n, 5), wr(nb, 0:n, 5), el(nb, 0:n), er(nb, 0:n)
+    real(wp), intent(out) :: cl(nb, 0:n), cr(nb, 0:n), f(nb, 0:n, 5)
     integer, intent(inout) :: nfallback
-    integer :: i
-    call reconstruct_faces(scheme, n, g, 5, pw, wl, wr)
-    call eos_sound_speed2(eos, n + 1, wl(:, 1), wl(:, 5), cl)
-    call eos_sound_speed2(eos, n + 1, wr(:, 1), wr(:, 5), cr)
-    do i = 0, n
-      if (wl(i, 1) > 0.0_wp .and. wr(i, 1) > 0.0_wp .and. cl(i) > 0.0_wp &
-        .and. cr(i) > 0.0_wp) cycle
-      nfallback = nfallback + 1
-      wl(i, :) = pw(i, :)
-      wr(i, :) = pw(i + 1, :)
-      call eos_sound_speed2(eos, 1, wl(i:i, 1), wl(i:i, 5), cl(i:i))
-      call eos_sound_speed2(eos, 1, wr(i:i, 1), wr(i:i, 5), cr(i:i))
-    end do
+    integer :: i, b, nf
+    nf = nb * (n + 1)
+    call reconstruct_faces(scheme, nb, n, g, 5, pw, wl, wr)
+    call eos_sound_speed2(eos, nf, wl(:, :, 1), wl(:, :, 5), cl)
+    call eos_sound_speed2(eos, nf, wr(:, :, 1), wr(:, :, 5), cr)
+    if (.not. all(wl(:, :, 1) > 0.0_wp .and. wr(:, :, 1) > 0.0_wp .and. cl > 0.0_wp &
+        .and. cr > 0.0_wp)) then
+      do i = 0, n
+        do b = 1, nb
+          if (wl(b, i, 1) > 0.0_wp .and. wr(b, i, 1) > 0.0_wp .and. cl(b, i) > 0.0_wp &
+            .and. cr(b, i) > 0.0_wp) cycle
+          nfallback = nfallback + 1
+          wl(b, i, :) = pw(b, i, :)
+          wr(b, i, :) = pw(b, i + 1, :)
+          call eos_sound_speed2(eos, 1, wl(b, i, 1), wl(b, i, 5), cl(b, i))
+          call eos_sound_speed2(eos, 1, wr(b, i, 1), wr(b, i, 5), cr(b, i))
+        end do
+      end do
+    end if
     cl = sqrt(max(cl, 0.0_wp))
     cr = sqrt(max(cr, 0.0_wp))
-    call eos_energy(eos, n + 1, wl(:, 1), wl(:, 5), el)
-    call eos_energy(eos, n + 1, wr(:, 1), wr(:, 5), er)
-    call face_flux(flux_kind, n + 1, wl, wr, el, er, cl, cr, f)
+    call eos_energy(eos, nf, wl(:, :, 1), wl(:, :, 5), el)
+    call eos_energy(eos, nf, wr(:, :, 1), wr(:, :, 5), er)
+    call face_flux(flux_kind, nf, wl, wr, el, er, cl, cr, f)
   end subroutine faces_and_fluxes
 
   !> Largest sum over directions of (|u_d| + c) / dx_d over the interior: dt = cfl / rate.

@@ -39,17 +39,17 @@ contains
   real(wp) function face_error(scheme, n) result(err)
     integer, intent(in) :: scheme, n
     integer, parameter :: ng = 4
-    real(wp) :: v(1-ng:n+ng, 1), left(0:n, 1), right(0:n, 1), dx, xf
+    real(wp) :: v(1, 1-ng:n+ng, 1), left(1, 0:n, 1), right(1, 0:n, 1), dx, xf
     integer :: i
     dx = 1.0_wp / n
     do i = 1 - ng, n + ng
-      v(i, 1) = (prim(i * dx) - prim((i - 1) * dx)) / dx
+      v(1, i, 1) = (prim(i * dx) - prim((i - 1) * dx)) / dx
     end do
-    call reconstruct_faces(scheme, n, ng, 1, v, left, right)
+    call reconstruct_faces(scheme, 1, n, ng, 1, v, left, right)
     err = 0.0_wp
     do i = 0, n
       xf = i * dx
-      err = max(err, abs(left(i, 1) - f(xf)), abs(right(i, 1) - f(xf)))
+      err = max(err, abs(left(1, i, 1) - f(xf)), abs(right(1, i, 1) - f(xf)))
     end do
   end function face_error
 
