@@ -83,6 +83,7 @@ contains
     open(newunit=u, file=path, access='stream', form='unformatted', action='read', iostat=ios)
     if (ios /= 0) return
     inquire(unit=u, size=n)
+    deallocate(text)
     allocate(character(len=n) :: text)
     read(u, iostat=ios) text
     close(u)

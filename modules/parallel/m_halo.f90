@@ -30,6 +30,7 @@ module m_halo
   end type partner_t
 
   type :: halo_plan_t
+    integer :: ng(3) = 0         !< halo depth per direction (from the layout)
     integer :: ncopy = 0
     type(piece_t), allocatable :: copy(:)
     integer :: npartner = 0
@@ -79,6 +80,7 @@ contains
     type(piece_t) :: pc
     me = comm_rank()
     nb = size(blocks)
+    plan%ng = lay%ng
     allocate(local_of(lay%nblocks), pindex(0:maxval(lay%owner)))
     local_of = 0
     do b = 1, nb
@@ -243,9 +245,12 @@ contains
       plan%recvbuf, rcount)
     do c = 1, plan%ncopy
       pc = plan%copy(c)
-      blocks(pc%local)%q(pc%lo(1):pc%hi(1), pc%lo(2):pc%hi(2), pc%lo(3):pc%hi(3), 1:nvar) = &
-        blocks(pc%src_local)%q(pc%slo(1):pc%shi(1), pc%slo(2):pc%shi(2), &
-        pc%slo(3):pc%shi(3), 1:nvar)
+      if (pc%local == pc%src_local) then
+        call copy_within(plan%ng, blocks(pc%local)%q, pc%lo, pc%hi, pc%slo, nvar)
+      else
+        call copy_box(plan%ng, blocks(pc%local)%q, blocks(pc%src_local)%q, pc%lo, pc%hi, &
+          pc%slo, nvar)
+      end if
     end do
     if (plan%npartner > 0) call exchange_wait(plan%ex)
     do r = 1, plan%npartner
@@ -265,5 +270,42 @@ contains
       end do
     end do
   end subroutine halo_exchange
+
+  !> dst(box lo..hi) = src(box starting at slo), two distinct blocks: explicit loops, so that
+  !> no temporary is made for a possible overlap of the two sections.
+  subroutine copy_box(ng, dst, src, lo, hi, slo, nvar)
+    integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), nvar
+    real(wp), intent(inout) :: dst(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
+    real(wp), intent(in) :: src(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
+    integer :: i, j, k, m, o(3)
+    o = slo - lo
+    do m = 1, nvar
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            dst(i, j, k, m) = src(i + o(1), j + o(2), k + o(3), m)
+          end do
+        end do
+      end do
+    end do
+  end subroutine copy_box
+
+  !> The same within one block (a periodic direction with a single block): the two boxes
+  !> never overlap.
+  subroutine copy_within(ng, q, lo, hi, slo, nvar)
+    integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), nvar
+    real(wp), intent(inout) :: q(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
+    integer :: i, j, k, m, o(3)
+    o = slo - lo
+    do m = 1, nvar
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            q(i, j, k, m) = q(i + o(1), j + o(2), k + o(3), m)
+          end do
+        end do
+      end do
+    end do
+  end subroutine copy_within
 
 end module m_halo
