@@ -19,14 +19,17 @@ export OMPI_MCA_rmaps_base_oversubscribe := 1
 
 STD_FLAGS := -std=f2018 -ffree-line-length-132 -I$(HDF5_INC)
 REL_FLAGS := $(STD_FLAGS) -O3 -march=native -g -fno-backtrace
+# -Wno-maybe-uninitialized: gfortran 12 reports the hidden length of deferred-length
+# character results as "may be used uninitialized" at -O1 (false positives)
 CHK_FLAGS := $(STD_FLAGS) -O1 -g -Wall -Wextra -Wimplicit-interface -Werror -fcheck=all \
-             -ffpe-trap=invalid,zero,overflow -fbacktrace
+             -ffpe-trap=invalid,zero,overflow -fbacktrace -Wno-maybe-uninitialized
 
 # modules in dependency order (a module only uses those before it)
 MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_config core/m_state \
   core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_halo \
   grid/m_boundary eos/m_eos numerics/m_reconstruct numerics/m_flux numerics/m_euler \
-  scene/m_scene strength/m_material_library io/m_deck io/m_history io/m_hdf5_io io/m_xdmf
+  scene/m_scene strength/m_material_library io/m_deck_text io/m_deck_parse io/m_deck_values \
+  io/m_deck_schema io/m_deck_check io/m_deck_write io/m_deck io/m_history io/m_hdf5_io io/m_xdmf
 DRIVER := m_simulation m_output m_timeloop
 SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))

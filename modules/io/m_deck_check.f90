@@ -1,0 +1,459 @@
+!> Resolving and checking a deck once it is read (DESIGN section 6): material names are
+!> resolved against the material library (built-in materials that the base material or a
+!> body uses are added to the configuration), block sizes left at 0 are chosen, body density
+!> and pressure default to those of the body's material, the output fields to a standard
+!> list; every value is checked against its range or its list of choices, and the first
+!> violation stops every rank with one line naming group, variable and a typical value. It
+!> does not read the deck (m_deck) and does not interpret the physics: what a material or a
+!> shape means is for eos/ and scene/.
+module m_deck_check
+  use m_kinds, only: wp, name_len
+  use m_config, only: config_t, material_t, is_set, max_materials, max_fields
+  use m_material_library, only: library_lookup, library_names
+  use m_deck_text, only: int_text, real_text, in_list
+  use m_deck_parse, only: deck_group_t
+  use m_deck_schema, only: fail, bad
+  implicit none
+  private
+  public :: deck_check
+
+  character(len=*), parameter :: geometries = 'cartesian, axisymmetric'
+  character(len=*), parameter :: bcs = 'outflow, symmetry, rigid, periodic, velocity'
+  character(len=*), parameter :: schemes = 'eno1, eno2, eno3, weno5'
+  character(len=*), parameter :: fluxes = 'llf, hllc'
+  character(len=*), parameter :: probes = 'trilinear, least_squares, auto'
+  character(len=*), parameter :: eoses = 'ideal_gas, stiffened_gas, mie_gruneisen'
+  character(len=*), parameter :: shapes = 'box, sphere, cylinder, half_space'
+  character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach'
+  character(len=4), parameter :: default_fields(7) = &
+    [character(len=4) :: 'rho', 'u', 'v', 'w', 'p', 'e', 'T']
+  integer, parameter :: min_block = 4   !< cells: the halo is 4 deep
+
+contains
+
+  !> Resolve and check cfg as read from groups; the checks run in a fixed order, so the
+  !> error reported is always the first one found in that order. Collective.
+  subroutine deck_check(base, groups, n_groups, cfg)
+    character(len=*), intent(in) :: base
+    type(deck_group_t), intent(in) :: groups(:)
+    integer, intent(in) :: n_groups
+    type(config_t), intent(inout) :: cfg
+    call check_run(base, groups, n_groups, cfg)
+    call check_domain(base, groups, n_groups, cfg)
+    call check_numerics(base, cfg)
+    call check_output(base, cfg)
+    call check_materials(base, cfg)
+    call check_bodies(base, cfg)
+  end subroutine deck_check
+
+  subroutine check_run(base, groups, n_groups, cfg)
+    character(len=*), intent(in) :: base
+    type(deck_group_t), intent(in) :: groups(:)
+    integer, intent(in) :: n_groups
+    type(config_t), intent(inout) :: cfg
+    if (is_set(cfg%t_end)) then
+      if (.not. cfg%t_end > 0.0_wp) call bad(base, 'run', 't_end', 'must be > 0, got ' &
+        // real_text(cfg%t_end))
+    else if (.not. given(groups, n_groups, 'run', 'max_steps')) then
+      call bad(base, 'run', 't_end', 'missing required value (give t_end or max_steps)')
+    end if
+    if (cfg%max_steps < 0) call bad(base, 'run', 'max_steps', 'must be >= 0, got ' &
+      // int_text(cfg%max_steps))
+    if (cfg%wall_limit < 0.0_wp) call bad(base, 'run', 'wall_limit', &
+      'must be >= 0 (0 = no limit), got ' // real_text(cfg%wall_limit))
+    if (len_trim(cfg%out_dir) == 0) call bad(base, 'run', 'out_dir', &
+      'missing required value (it is empty)')
+  end subroutine check_run
+
+  subroutine check_domain(base, groups, n_groups, cfg)
+    character(len=*), intent(in) :: base
+    type(deck_group_t), intent(in) :: groups(:)
+    integer, intent(in) :: n_groups
+    type(config_t), intent(inout) :: cfg
+    character(len=:), allocatable :: nd_text
+    character(len=3) :: dd
+    integer :: d, nd
+    logical :: lo_periodic, hi_periodic
+
+    nd = cfg%ndim
+    if (.not. given(groups, n_groups, 'domain', 'ndim')) &
+      call bad(base, 'domain', 'ndim', 'missing required value')
+    if (nd < 1 .or. nd > 3) call bad(base, 'domain', 'ndim', 'must be 1, 2 or 3, got ' &
+      // int_text(nd))
+    nd_text = 'ndim = ' // int_text(nd)
+    call check_choice(base, 'domain', 'geometry', cfg%geometry, geometries)
+    if (cfg%geometry == 'axisymmetric') then
+      if (nd /= 2) call bad(base, 'domain', 'geometry', &
+        "'axisymmetric' needs ndim = 2 (x = r, y = z), got " // nd_text)
+      if (cfg%lo(1) < 0.0_wp) call bad(base, 'domain', 'lo(1)', &
+        'must be >= 0 in axisymmetric geometry (x is the radius), got ' &
+        // real_text(cfg%lo(1)))
+    end if
+
+    if (.not. given(groups, n_groups, 'domain', 'cells')) &
+      call bad(base, 'domain', 'cells', 'missing required value')
+    if (.not. given(groups, n_groups, 'domain', 'hi')) &
+      call bad(base, 'domain', 'hi', 'missing required value')
+    do d = 1, 3
+      write(dd, '(a,i1,a)') '(', d, ')'
+      if (d <= nd) then
+        if (cfg%cells(d) < min_block) call bad(base, 'domain', 'cells' // dd, &
+          'must be >= 4 in a direction d <= ' // nd_text // ' (a block holds at least 4 ' &
+          // 'cells: the halo is 4 deep), got ' // int_text(cfg%cells(d)))
+      else if (cfg%cells(d) /= 1) then
+        call bad(base, 'domain', 'cells' // dd, 'must be 1 in a direction d > ' // nd_text &
+          // ', got ' // int_text(cfg%cells(d)))
+      end if
+      if (.not. cfg%hi(d) > cfg%lo(d)) call bad(base, 'domain', 'hi' // dd, &
+        'must be > lo' // dd // ' = ' // real_text(cfg%lo(d)) // ', got ' &
+        // real_text(cfg%hi(d)))
+    end do
+
+    ! block(d) = 0 (the default) asks for a block size chosen here
+    do d = 1, 3
+      write(dd, '(a,i1,a)') '(', d, ')'
+      if (d > nd) then
+        cfg%block(d) = 1
+      else if (cfg%block(d) == 0) then
+        cfg%block(d) = default_block(cfg%cells(d), nd)
+      else if (cfg%block(d) < min_block) then
+        call bad(base, 'domain', 'block' // dd, 'must be >= 4 cells (the halo is 4 ' &
+          // 'deep; 0 = chosen for you), got ' // int_text(cfg%block(d)))
+      else if (mod(cfg%cells(d), cfg%block(d)) /= 0) then
+        call bad(base, 'domain', 'block' // dd, 'cells' // dd // ' = ' &
+          // int_text(cfg%cells(d)) // ' is not a multiple of block' // dd // ' = ' &
+          // int_text(cfg%block(d)))
+      end if
+    end do
+
+    do d = 1, 3
+      write(dd, '(a,i1,a)') '(', d, ')'
+      call check_choice(base, 'domain', 'bc_lo' // dd, cfg%bc_lo(d), bcs)
+      call check_choice(base, 'domain', 'bc_hi' // dd, cfg%bc_hi(d), bcs)
+      lo_periodic = (cfg%bc_lo(d) == 'periodic')
+      hi_periodic = (cfg%bc_hi(d) == 'periodic')
+      if (d <= nd .and. (lo_periodic .neqv. hi_periodic)) call bad(base, 'domain', &
+        merge('bc_hi', 'bc_lo', lo_periodic) // dd, 'periodic on one side only: bc_lo' &
+        // dd // " = '" // trim(cfg%bc_lo(d)) // "' but bc_hi" // dd // " = '" &
+        // trim(cfg%bc_hi(d)) // "' (both or neither must be 'periodic')")
+    end do
+    if (cfg%geometry == 'axisymmetric' .and. .not. cfg%lo(1) > 0.0_wp) then
+      if (cfg%bc_lo(1) /= 'symmetry') call bad(base, 'domain', 'bc_lo(1)', &
+        "must be 'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), got '" &
+        // trim(cfg%bc_lo(1)) // "'")
+    end if
+    if (cfg%bc_rise_time < 0.0_wp) call bad(base, 'domain', 'bc_rise_time', &
+      'must be >= 0, got ' // real_text(cfg%bc_rise_time))
+  end subroutine check_domain
+
+  !> Cells per block along a direction of n cells: the largest divisor of n between 4 and
+  !> 64 (32 in 3D), else the smallest divisor >= 4 (n itself when n is prime).
+  integer function default_block(n, nd) result(b)
+    integer, intent(in) :: n, nd
+    integer :: target
+    target = merge(32, 64, nd == 3)
+    do b = min(n, target), min_block, -1
+      if (mod(n, b) == 0) return
+    end do
+    do b = min_block, n
+      if (mod(n, b) == 0) return
+    end do
+    b = n
+  end function default_block
+
+  subroutine check_numerics(base, cfg)
+    character(len=*), intent(in) :: base
+    type(config_t), intent(in) :: cfg
+    call check_choice(base, 'numerics', 'scheme', cfg%scheme, schemes)
+    call check_choice(base, 'numerics', 'flux', cfg%flux, fluxes)
+    if (cfg%rk_order < 1 .or. cfg%rk_order > 3) call bad(base, 'numerics', 'rk_order', &
+      'must be 1, 2 or 3, got ' // int_text(cfg%rk_order))
+    if (.not. (cfg%cfl > 0.0_wp .and. cfg%cfl <= 1.0_wp)) call bad(base, 'numerics', 'cfl', &
+      'must be in (0, 1], got ' // real_text(cfg%cfl))
+    if (is_set(cfg%dt_max)) then
+      if (.not. cfg%dt_max > 0.0_wp) call bad(base, 'numerics', 'dt_max', &
+        'must be > 0 (leave it out for no cap), got ' // real_text(cfg%dt_max))
+    end if
+    call check_choice(base, 'numerics', 'gfm_probe', cfg%gfm_probe, probes)
+    if (cfg%reinit_every < 1) call bad(base, 'numerics', 'reinit_every', &
+      'must be >= 1 (steps between level-set reinitialisations), got ' &
+      // int_text(cfg%reinit_every))
+    if (cfg%band < min_block) call bad(base, 'numerics', 'band', 'must be >= 4 cells ' &
+      // '(the ghost band is 4 deep), got ' // int_text(cfg%band))
+  end subroutine check_numerics
+
+  subroutine check_output(base, cfg)
+    character(len=*), intent(in) :: base
+    type(config_t), intent(inout) :: cfg
+    character(len=name_len) :: kept(max_fields)
+    integer :: k, j, n
+    if (cfg%plot_dt < 0.0_wp) call bad(base, 'output', 'plot_dt', &
+      'must be >= 0 (0 = no plots by time), got ' // real_text(cfg%plot_dt))
+    if (cfg%plot_every < 0) call bad(base, 'output', 'plot_every', &
+      'must be >= 0 (0 = no plots by step), got ' // int_text(cfg%plot_every))
+    if (cfg%checkpoint_every < 0) call bad(base, 'output', 'checkpoint_every', &
+      'must be >= 0 (0 = only at wall_limit), got ' // int_text(cfg%checkpoint_every))
+    if (cfg%history_every < 1) call bad(base, 'output', 'history_every', &
+      'must be >= 1, got ' // int_text(cfg%history_every))
+    n = 0
+    kept = ''
+    do k = 1, max_fields
+      if (len_trim(cfg%fields(k)) == 0) cycle
+      if (.not. in_list(cfg%fields(k), field_names)) call bad(base, 'output', 'fields', &
+        "unknown field '" // trim(cfg%fields(k)) // "' (allowed: " // field_names // ')')
+      do j = 1, n
+        if (kept(j) == cfg%fields(k)) call bad(base, 'output', 'fields', "field '" &
+          // trim(cfg%fields(k)) // "' is listed twice")
+      end do
+      n = n + 1
+      kept(n) = cfg%fields(k)
+    end do
+    if (n == 0) then
+      n = size(default_fields)
+      kept(1:n) = default_fields
+    end if
+    cfg%n_fields = n
+    cfg%fields = kept
+  end subroutine check_output
+
+  !> Check every &material, then add the library entries that the base material and the
+  !> bodies use without defining them.
+  subroutine check_materials(base, cfg)
+    character(len=*), intent(in) :: base
+    type(config_t), intent(inout) :: cfg
+    integer :: i, j
+    do i = 1, cfg%n_materials
+      call check_material(base, cfg%materials(i))
+      do j = 1, i - 1
+        if (cfg%materials(j)%name == cfg%materials(i)%name) call bad(base, 'material', &
+          'name', "material '" // trim(cfg%materials(i)%name) // "' is defined twice")
+      end do
+    end do
+    if (len_trim(cfg%base_material) == 0) call bad(base, 'domain', 'base_material', &
+      "missing required value (a material name, or 'void')")
+    call use_material(base, 'domain', 'base_material', cfg%base_material, 'void', cfg)
+    do i = 1, cfg%n_bodies
+      if (len_trim(cfg%bodies(i)%material) > 0) call use_material(base, 'body', 'material', &
+        cfg%bodies(i)%material, 'void, rigid', cfg)
+    end do
+  end subroutine check_materials
+
+  subroutine check_material(base, m)
+    character(len=*), intent(in) :: base
+    type(material_t), intent(in) :: m
+    character(len=9) :: needs(7)
+    character(len=:), allocatable :: in_m
+    integer :: k, n_needs
+    if (len_trim(m%name) == 0) call bad(base, 'material', 'name', 'missing required value')
+    in_m = " in material '" // trim(m%name) // "'"
+    if (.not. valid_name(m%name)) call bad(base, 'material', 'name', "'" // trim(m%name) &
+      // "' is not a valid name (letters, digits, _ - . only)")
+    if (m%name == 'void' .or. m%name == 'rigid') call bad(base, 'material', 'name', "'" &
+      // trim(m%name) // "' is reserved (a body may use it without any &material)")
+    if (len_trim(m%eos) == 0) call bad(base, 'material', 'eos', 'missing required value' &
+      // in_m)
+    call check_choice(base, 'material', 'eos', m%eos, eoses)
+    select case (m%eos)
+    case ('ideal_gas')
+      n_needs = 4
+      needs(1:n_needs) = [character(len=9) :: 'rho0', 'p0', 'gamma', 'cv']
+    case ('stiffened_gas')
+      n_needs = 5
+      needs(1:n_needs) = [character(len=9) :: 'rho0', 'p0', 'gamma', 'p_inf', 'cv']
+    case default
+      n_needs = 7
+      needs(1:n_needs) = [character(len=9) :: 'rho0', 'p0', 'c0', 's', 'gruneisen', 'cv', &
+        'T0']
+    end select
+    do k = 1, n_needs
+      if (.not. is_set(material_value(m, needs(k)))) call bad(base, 'material', &
+        trim(needs(k)), "missing required value for eos '" // trim(m%eos) // "'" // in_m)
+    end do
+    call at_least(m%rho0, 'rho0', .true., 0.0_wp)
+    call at_least(m%gamma, 'gamma', .true., 1.0_wp)
+    call at_least(m%p_inf, 'p_inf', .false., 0.0_wp)
+    call at_least(m%c0, 'c0', .true., 0.0_wp)
+    call at_least(m%s, 's', .false., 0.0_wp)
+    call at_least(m%gruneisen, 'gruneisen', .false., 0.0_wp)
+    call at_least(m%cv, 'cv', .true., 0.0_wp)
+    call at_least(m%T0, 'T0', .true., 0.0_wp)
+    if (m%eos == 'ideal_gas') call at_least(m%p0, 'p0', .false., 0.0_wp)
+    if (m%eos == 'stiffened_gas') call at_least(m%p0, 'p0', .true., -m%p_inf)
+
+  contains
+
+    !> x (when set) must be > bound (strict) or >= bound.
+    subroutine at_least(x, name, strict, bound)
+      real(wp), intent(in) :: x, bound
+      character(len=*), intent(in) :: name
+      logical, intent(in) :: strict
+      logical :: ok
+      if (.not. is_set(x)) return
+      if (strict) then
+        ok = x > bound
+      else
+        ok = x >= bound
+      end if
+      if (.not. ok) call bad(base, 'material', name, 'must be ' &
+        // trim(merge('> ', '>=', strict)) // ' ' // real_text(bound) // in_m // ', got ' &
+        // real_text(x))
+    end subroutine at_least
+
+  end subroutine check_material
+
+  !> A material that the deck uses by name: defined, built in (then added), or one of the
+  !> special names allowed at that place.
+  subroutine use_material(base, gname, vname, name, special, cfg)
+    character(len=*), intent(in) :: base, gname, vname, name, special
+    type(config_t), intent(inout) :: cfg
+    type(material_t) :: mat
+    character(len=:), allocatable :: built_in
+    logical :: found
+    if (in_list(name, special)) return
+    if (material_index(cfg, name) > 0) return
+    call library_lookup(trim(name), mat, found)
+    if (found) then
+      if (cfg%n_materials == max_materials) call fail(base, '&material', 'more than ' &
+        // int_text(max_materials) // ' materials with the built-in ones used (max_materials' &
+        // ' of m_config)', '')
+      cfg%n_materials = cfg%n_materials + 1
+      cfg%materials(cfg%n_materials) = mat
+    else
+      call library_names(built_in)
+      call bad(base, gname, vname, "'" // trim(name) // "' is neither defined by a " &
+        // '&material group nor built in (built in: ' // built_in // '; or ' // special // ')')
+    end if
+  end subroutine use_material
+
+  subroutine check_bodies(base, cfg)
+    character(len=*), intent(in) :: base
+    type(config_t), intent(inout) :: cfg
+    type(material_t) :: m
+    character(len=:), allocatable :: in_b
+    integer :: i, j, d
+    do i = 1, cfg%n_bodies
+      associate(b => cfg%bodies(i))
+        if (len_trim(b%name) == 0) b%name = 'body' // int_text(i)
+        in_b = " in body '" // trim(b%name) // "'"
+        if (.not. valid_name(b%name)) call bad(base, 'body', 'name', "'" // trim(b%name) &
+          // "' is not a valid name (letters, digits, _ - . only)")
+        do j = 1, i - 1
+          if (cfg%bodies(j)%name == b%name) call bad(base, 'body', 'name', "body '" &
+            // trim(b%name) // "' is defined twice")
+        end do
+        if (len_trim(b%material) == 0) call bad(base, 'body', 'material', &
+          'missing required value' // in_b)
+        if (len_trim(b%shape) == 0) call bad(base, 'body', 'shape', &
+          'missing required value' // in_b)
+        call check_choice(base, 'body', 'shape', b%shape, shapes)
+        select case (b%shape)
+        case ('box')
+          do d = 1, cfg%ndim
+            if (.not. b%hi(d) > b%lo(d)) call bad(base, 'body', 'hi(' // int_text(d) // ')', &
+              'must be > lo(' // int_text(d) // ') = ' // real_text(b%lo(d)) // in_b &
+              // ', got ' // real_text(b%hi(d)))
+          end do
+        case ('sphere', 'cylinder')
+          if (.not. b%radius > 0.0_wp) call bad(base, 'body', 'radius', 'must be > 0 for a ' &
+            // trim(b%shape) // in_b // ', got ' // real_text(b%radius))
+        end select
+        if (b%shape == 'cylinder' .and. .not. b%length > 0.0_wp) call bad(base, 'body', &
+          'length', 'must be > 0 for a cylinder' // in_b // ', got ' // real_text(b%length))
+        if ((b%shape == 'cylinder' .or. b%shape == 'half_space') &
+          .and. .not. maxval(abs(b%axis)) > 0.0_wp) call bad(base, 'body', 'axis', &
+          'must not be zero for a ' // trim(b%shape) // in_b)
+        if (.not. abs(b%amplitude) < 1.0_wp) call bad(base, 'body', 'amplitude', &
+          'must lie in (-1, 1) so that rho (1 + amplitude sin(2 pi k.x)) stays > 0' // in_b &
+          // ', got ' // real_text(b%amplitude))
+        if (b%material == 'void' .or. b%material == 'rigid') cycle
+        m = cfg%materials(material_index(cfg, b%material))
+        if (is_set(b%p) .and. is_set(b%T)) call bad(base, 'body', 'T', &
+          'set p or T' // in_b // ', not both')
+        if (.not. is_set(b%rho)) b%rho = m%rho0
+        if (.not. is_set(b%p) .and. .not. is_set(b%T)) b%p = m%p0
+        if (.not. b%rho > 0.0_wp) call bad(base, 'body', 'rho', 'must be > 0' // in_b &
+          // ', got ' // real_text(b%rho))
+        if (is_set(b%T)) then
+          if (.not. b%T > 0.0_wp) call bad(base, 'body', 'T', 'must be > 0' // in_b &
+            // ', got ' // real_text(b%T))
+        else if (m%eos == 'ideal_gas' .and. b%p < 0.0_wp) then
+          call bad(base, 'body', 'p', 'must be >= 0 for a gas' // in_b // ', got ' &
+            // real_text(b%p))
+        else if (m%eos == 'stiffened_gas' .and. .not. b%p > -m%p_inf) then
+          call bad(base, 'body', 'p', 'must be > -p_inf = ' // real_text(-m%p_inf) // in_b &
+            // ', got ' // real_text(b%p))
+        end if
+      end associate
+    end do
+  end subroutine check_bodies
+
+  real(wp) function material_value(m, name) result(x)
+    type(material_t), intent(in) :: m
+    character(len=*), intent(in) :: name
+    select case (name)
+    case ('rho0')
+      x = m%rho0
+    case ('p0')
+      x = m%p0
+    case ('gamma')
+      x = m%gamma
+    case ('p_inf')
+      x = m%p_inf
+    case ('c0')
+      x = m%c0
+    case ('s')
+      x = m%s
+    case ('gruneisen')
+      x = m%gruneisen
+    case ('cv')
+      x = m%cv
+    case default
+      x = m%T0
+    end select
+  end function material_value
+
+  integer function material_index(cfg, name) result(k)
+    type(config_t), intent(in) :: cfg
+    character(len=*), intent(in) :: name
+    do k = 1, cfg%n_materials
+      if (cfg%materials(k)%name == name) return
+    end do
+    k = 0
+  end function material_index
+
+  subroutine check_choice(base, gname, vname, value, allowed)
+    character(len=*), intent(in) :: base, gname, vname, value, allowed
+    character(len=:), allocatable :: what
+    integer :: paren
+    if (in_list(value, allowed)) return
+    paren = index(vname, '(')
+    what = vname
+    if (paren > 0) what = vname(1:paren - 1)
+    if (what(1:min(3, len(what))) == 'bc_') what = 'bc'
+    call fail(base, '&' // gname // ' ' // vname, 'unknown ' // what // " '" // trim(value) &
+      // "' (allowed: " // allowed // ')', '')
+  end subroutine check_choice
+
+  !> Whether the first instance of group gname assigns variable vname.
+  logical function given(groups, n_groups, gname, vname)
+    type(deck_group_t), intent(in) :: groups(:)
+    integer, intent(in) :: n_groups
+    character(len=*), intent(in) :: gname, vname
+    integer :: i, k
+    given = .false.
+    do i = 1, n_groups
+      if (groups(i)%name /= gname) cycle
+      do k = 1, groups(i)%n
+        if (groups(i)%assign(k)%name == vname) given = .true.
+      end do
+      return
+    end do
+  end function given
+
+  logical function valid_name(name)
+    character(len=*), intent(in) :: name
+    valid_name = len_trim(name) > 0 .and. verify(trim(name), 'abcdefghijklmnopqrstuvwxyz' &
+      // 'ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.') == 0
+  end function valid_name
+
+end module m_deck_check

@@ -1,0 +1,175 @@
+!> What a deck may hold (DESIGN section 6): its groups, and the variables of each with
+!> kind, size and a typical value; and the one-line error that names them,
+!>   ERROR <deck file> &<group> <variable>: <reason> (typical value <example>),
+!> raised on every rank at once (every rank parses the same text, so every rank meets the
+!> same first error). It neither reads values (m_deck) nor judges what they mean
+!> (m_deck_check).
+module m_deck_schema
+  use m_kinds, only: name_len, path_len
+  use m_config, only: max_fields
+  use m_errors, only: stop_collective
+  use m_deck_text, only: to_lower
+  use m_deck_values, only: var_info_t
+  implicit none
+  private
+  public :: known_groups, run_vars, domain_vars, numerics_vars, physics_vars, material_vars, &
+    body_vars, output_vars
+  public :: fail, error_line, bad, group_vars, group_var, group_of, var_index
+
+  character(len=*), parameter :: known_groups = &
+    'run, domain, numerics, physics, material, body, output'
+  type(var_info_t), parameter :: run_vars(7) = [ &
+    var_info_t('title', 'c', 1, 128, "'sod shock tube'"), &
+    var_info_t('t_end', 'r', 1, 0, '0.2'), &
+    var_info_t('max_steps', 'i', 1, 0, '10000'), &
+    var_info_t('wall_limit', 'r', 1, 0, '3600.0'), &
+    var_info_t('out_dir', 'c', 1, path_len, "'out/sod'"), &
+    var_info_t('overwrite', 'l', 1, 0, '.true.'), &
+    var_info_t('restart', 'c', 1, path_len, "'out/sod/chk_000100.h5'")]
+  type(var_info_t), parameter :: domain_vars(11) = [ &
+    var_info_t('ndim', 'i', 1, 0, '2'), &
+    var_info_t('geometry', 'c', 1, name_len, "'cartesian'"), &
+    var_info_t('lo', 'r', 3, 0, '0.0, 0.0, 0.0'), &
+    var_info_t('hi', 'r', 3, 0, '1.0, 0.5, 1.0'), &
+    var_info_t('cells', 'i', 3, 0, '200, 100, 1'), &
+    var_info_t('block', 'i', 3, 0, '50, 50, 1'), &
+    var_info_t('bc_lo', 'c', 3, name_len, "'symmetry', 'outflow', 'outflow'"), &
+    var_info_t('bc_hi', 'c', 3, name_len, "'outflow', 'outflow', 'outflow'"), &
+    var_info_t('bc_velocity', 'r', 3, 0, '100.0, 0.0, 0.0'), &
+    var_info_t('bc_rise_time', 'r', 1, 0, '1.0e-6'), &
+    var_info_t('base_material', 'c', 1, name_len, "'air'")]
+  type(var_info_t), parameter :: numerics_vars(8) = [ &
+    var_info_t('scheme', 'c', 1, name_len, "'eno3'"), &
+    var_info_t('flux', 'c', 1, name_len, "'hllc'"), &
+    var_info_t('rk_order', 'i', 1, 0, '3'), &
+    var_info_t('cfl', 'r', 1, 0, '0.5'), &
+    var_info_t('dt_max', 'r', 1, 0, '1.0e-7'), &
+    var_info_t('gfm_probe', 'c', 1, name_len, "'auto'"), &
+    var_info_t('reinit_every', 'i', 1, 0, '5'), &
+    var_info_t('band', 'i', 1, 0, '6')]
+  type(var_info_t), parameter :: physics_vars(4) = [ &
+    var_info_t('strength', 'l', 1, 0, '.true.'), &
+    var_info_t('thermal', 'l', 1, 0, '.true.'), &
+    var_info_t('heat_conduction', 'l', 1, 0, '.false.'), &
+    var_info_t('reaction', 'l', 1, 0, '.false.')]
+  type(var_info_t), parameter :: material_vars(11) = [ &
+    var_info_t('name', 'c', 1, name_len, "'water'"), &
+    var_info_t('eos', 'c', 1, name_len, "'stiffened_gas'"), &
+    var_info_t('rho0', 'r', 1, 0, '1000.0'), &
+    var_info_t('p0', 'r', 1, 0, '1.0e5'), &
+    var_info_t('gamma', 'r', 1, 0, '1.4'), &
+    var_info_t('p_inf', 'r', 1, 0, '6.0e8'), &
+    var_info_t('c0', 'r', 1, 0, '3940.0'), &
+    var_info_t('s', 'r', 1, 0, '1.49'), &
+    var_info_t('gruneisen', 'r', 1, 0, '2.0'), &
+    var_info_t('cv', 'r', 1, 0, '717.5'), &
+    var_info_t('T0', 'r', 1, 0, '293.15')]
+  type(var_info_t), parameter :: body_vars(15) = [ &
+    var_info_t('name', 'c', 1, name_len, "'projectile'"), &
+    var_info_t('material', 'c', 1, name_len, "'copper'"), &
+    var_info_t('shape', 'c', 1, name_len, "'sphere'"), &
+    var_info_t('center', 'r', 3, 0, '0.5, 0.5, 0.0'), &
+    var_info_t('radius', 'r', 1, 0, '0.1'), &
+    var_info_t('length', 'r', 1, 0, '0.2'), &
+    var_info_t('axis', 'r', 3, 0, '0.0, 0.0, 1.0'), &
+    var_info_t('lo', 'r', 3, 0, '0.0, 0.0, 0.0'), &
+    var_info_t('hi', 'r', 3, 0, '0.5, 1.0, 1.0'), &
+    var_info_t('velocity', 'r', 3, 0, '1000.0, 0.0, 0.0'), &
+    var_info_t('rho', 'r', 1, 0, '1000.0'), &
+    var_info_t('p', 'r', 1, 0, '1.0e5'), &
+    var_info_t('T', 'r', 1, 0, '300.0'), &
+    var_info_t('amplitude', 'r', 1, 0, '0.2'), &
+    var_info_t('wavevector', 'r', 3, 0, '1.0, 0.0, 0.0')]
+  type(var_info_t), parameter :: output_vars(5) = [ &
+    var_info_t('plot_dt', 'r', 1, 0, '1.0e-3'), &
+    var_info_t('plot_every', 'i', 1, 0, '100'), &
+    var_info_t('checkpoint_every', 'i', 1, 0, '1000'), &
+    var_info_t('history_every', 'i', 1, 0, '10'), &
+    var_info_t('fields', 'c', max_fields, name_len, "'rho', 'u', 'p'")]
+
+contains
+
+  !> Stop every rank with `ERROR <base> <where>: <why> (typical value <typical>)`.
+  subroutine fail(base, where, why, typical)
+    character(len=*), intent(in) :: base, where, why, typical
+    call stop_collective(error_line(base, where, why, typical), .false.)
+  end subroutine fail
+
+  !> `ERROR <base> <where>: <why> (typical value <typical>)`, without `<where>` or the
+  !> parenthesis when they are blank.
+  function error_line(base, where, why, typical) result(line)
+    character(len=*), intent(in) :: base, where, why, typical
+    character(len=:), allocatable :: line
+    line = 'ERROR ' // base
+    if (len_trim(where) > 0) line = line // ' ' // trim(where)
+    line = line // ': ' // why
+    if (len_trim(typical) > 0) line = line // ' (typical value ' // trim(typical) // ')'
+  end function error_line
+
+  !> fail() for variable vname (possibly with an index) of group gname, with its typical
+  !> value from the tables.
+  subroutine bad(base, gname, vname, why)
+    character(len=*), intent(in) :: base, gname, vname, why
+    type(var_info_t) :: info
+    integer :: k, paren
+    paren = index(vname // '(', '(')
+    k = var_index(group_vars(gname), to_lower(vname(1:paren - 1)))
+    info = var_info_t()
+    if (k > 0) info = group_var(gname, k)
+    call fail(base, '&' // gname // ' ' // vname, why, info%typical)
+  end subroutine bad
+
+  function group_vars(gname) result(vars)
+    character(len=*), intent(in) :: gname
+    type(var_info_t), allocatable :: vars(:)
+    select case (gname)
+    case ('run')
+      allocate(vars, source=run_vars)
+    case ('domain')
+      allocate(vars, source=domain_vars)
+    case ('numerics')
+      allocate(vars, source=numerics_vars)
+    case ('physics')
+      allocate(vars, source=physics_vars)
+    case ('material')
+      allocate(vars, source=material_vars)
+    case ('body')
+      allocate(vars, source=body_vars)
+    case default
+      allocate(vars, source=output_vars)
+    end select
+  end function group_vars
+
+  type(var_info_t) function group_var(gname, k) result(info)
+    character(len=*), intent(in) :: gname
+    integer, intent(in) :: k
+    type(var_info_t), allocatable :: vars(:)
+    allocate(vars, source=group_vars(gname))
+    info = vars(k)
+  end function group_var
+
+  !> The first other group that knows a variable called name, or ''.
+  function group_of(name, except) result(r)
+    character(len=*), intent(in) :: name, except
+    character(len=:), allocatable :: r
+    character(len=8), parameter :: order(7) = [character(len=8) :: 'run', 'domain', &
+      'numerics', 'physics', 'material', 'body', 'output']
+    integer :: k
+    do k = 1, size(order)
+      r = trim(order(k))
+      if (r == except) cycle
+      if (var_index(group_vars(r), name) > 0) return
+    end do
+    r = ''
+  end function group_of
+
+  integer function var_index(vars, name) result(k)
+    type(var_info_t), intent(in) :: vars(:)
+    character(len=*), intent(in) :: name
+    do k = 1, size(vars)
+      if (to_lower(trim(vars(k)%name)) == name) return
+    end do
+    k = 0
+  end function var_index
+
+end module m_deck_schema

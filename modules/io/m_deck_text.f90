@@ -1,0 +1,244 @@
+!> The small text helpers of the deck modules (DESIGN section 6): lower case, the edit
+!> distance behind "did you mean" hints, integers and reals as deck text (a real in the
+!> shortest form that reads back bit for bit), quoting for a deck or for the shell, the end
+!> of a quoted string, membership of a list written 'a, b, c', and path names. Text in,
+!> text out: it knows nothing of groups, variables or the configuration, does no I/O and
+!> never stops the run.
+module m_deck_text
+  use m_kinds, only: wp, i8
+  implicit none
+  private
+  public :: to_lower, edit_distance, int_text, real_text, quoted, shell_quoted, unquote
+  public :: string_end, is_digit, in_list, base_name, dir_name, normal_path
+
+  character(len=1), parameter :: nl = achar(10)
+
+contains
+
+  elemental function to_lower(t) result(r)
+    character(len=*), intent(in) :: t
+    character(len=len(t)) :: r
+    integer :: i
+    r = t
+    do i = 1, len(t)
+      if (t(i:i) >= 'A' .and. t(i:i) <= 'Z') r(i:i) = achar(iachar(t(i:i)) + 32)
+    end do
+  end function to_lower
+
+  !> Edit distance (insertions, deletions, substitutions and swaps of two neighbours).
+  pure integer function edit_distance(a, b) result(d)
+    character(len=*), intent(in) :: a, b
+    integer :: m(0:len(a), 0:len(b))
+    integer :: i, j, cost
+    do i = 0, len(a)
+      m(i, 0) = i
+    end do
+    do j = 0, len(b)
+      m(0, j) = j
+    end do
+    do j = 1, len(b)
+      do i = 1, len(a)
+        cost = merge(0, 1, a(i:i) == b(j:j))
+        m(i, j) = min(m(i - 1, j) + 1, m(i, j - 1) + 1, m(i - 1, j - 1) + cost)
+        if (i > 1 .and. j > 1) then
+          if (a(i:i) == b(j - 1:j - 1) .and. a(i - 1:i - 1) == b(j:j)) &
+            m(i, j) = min(m(i, j), m(max(i - 2, 0), max(j - 2, 0)) + 1)
+        end if
+      end do
+    end do
+    d = m(len(a), len(b))
+  end function edit_distance
+
+  function int_text(i) result(r)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: r
+    character(len=16) :: buf
+    write(buf, '(i0)') i
+    r = trim(buf)
+  end function int_text
+
+  !> The shortest decimal text that reads back as exactly x, e.g. 0.2, 101325.0, 6.0e8,
+  !> 1.0e-7: deck files stay readable and the resolved deck round-trips bit for bit.
+  function real_text(x) result(r)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: r
+    character(len=40) :: buf
+    character(len=:), allocatable :: digits
+    character(len=16) :: fmt
+    real(wp) :: y
+    integer :: d, e_at, ex, ios
+    if (.not. abs(x) > 0.0_wp) then
+      r = '0.0'
+      return
+    end if
+    do d = 1, 17
+      write(fmt, '(a,i0,a)') '(es40.', d - 1, 'e3)'
+      write(buf, fmt) abs(x)
+      read(buf, *, iostat=ios) y
+      if (ios == 0 .and. transfer(y, 0_i8) == transfer(abs(x), 0_i8)) exit
+    end do
+    buf = adjustl(buf)
+    e_at = index(buf, 'E')
+    read(buf(e_at + 1:), *) ex
+    digits = buf(1:1)
+    if (e_at > 3) digits = digits // buf(3:e_at - 1)
+    do while (len(digits) > 1)
+      if (digits(len(digits):len(digits)) /= '0') exit
+      digits = digits(1:len(digits) - 1)
+    end do
+    if (ex >= 0 .and. ex <= 6) then
+      if (len(digits) <= ex + 1) then
+        r = digits // repeat('0', ex + 1 - len(digits)) // '.0'
+      else
+        r = digits(1:ex + 1) // '.' // digits(ex + 2:)
+      end if
+    else if (ex < 0 .and. ex >= -3) then
+      r = '0.' // repeat('0', -ex - 1) // digits
+    else if (len(digits) == 1) then
+      r = digits // '.0e' // int_text(ex)
+    else
+      r = digits(1:1) // '.' // digits(2:) // 'e' // int_text(ex)
+    end if
+    if (x < 0.0_wp) r = '-' // r
+  end function real_text
+
+  !> A string as a deck value: in single quotes, inner quotes doubled.
+  function quoted(t) result(r)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: r
+    r = single_quoted(t, "''")
+  end function quoted
+
+  !> A string as one word of a shell command: in single quotes, inner quotes as '\''.
+  function shell_quoted(t) result(r)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: r
+    r = single_quoted(t, "'\''")
+  end function shell_quoted
+
+  !> t without its trailing blanks in single quotes, each quote inside written as quote_as.
+  function single_quoted(t, quote_as) result(r)
+    character(len=*), intent(in) :: t, quote_as
+    character(len=:), allocatable :: r
+    integer :: i
+    r = "'"
+    do i = 1, len_trim(t)
+      if (t(i:i) == "'") then
+        r = r // quote_as
+      else
+        r = r // t(i:i)
+      end if
+    end do
+    r = r // "'"
+  end function single_quoted
+
+  !> The characters of a quoted deck string (doubled quotes made single).
+  function unquote(t) result(r)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: r
+    integer :: i
+    r = ''
+    if (len(t) < 2) return
+    i = 2
+    do while (i < len(t))
+      r = r // t(i:i)
+      if (t(i:i) == t(1:1)) i = i + 1
+      i = i + 1
+    end do
+  end function unquote
+
+  !> Position of the quote closing the string that opens at p, or 0 if the line ends first.
+  !> A doubled quote inside the string stands for one quote character.
+  integer function string_end(s, p) result(e)
+    character(len=*), intent(in) :: s
+    integer, intent(in) :: p
+    integer :: q
+    e = 0
+    q = p + 1
+    do while (q <= len(s))
+      if (s(q:q) == nl) return
+      if (s(q:q) == s(p:p)) then
+        if (q < len(s)) then
+          if (s(q + 1:q + 1) == s(p:p)) then
+            q = q + 2
+            cycle
+          end if
+        end if
+        e = q
+        return
+      end if
+      q = q + 1
+    end do
+  end function string_end
+
+  pure logical function is_digit(c)
+    character(len=1), intent(in) :: c
+    is_digit = (c >= '0' .and. c <= '9')
+  end function is_digit
+
+  !> Whether word is one of the items of a list written 'a, b, c'.
+  logical function in_list(word, list)
+    character(len=*), intent(in) :: word, list
+    in_list = len_trim(word) > 0 .and. index(', ' // list // ',', ', ' // trim(word) // ',') > 0
+  end function in_list
+
+  !> The last component of a path ('decks/sod.nml' -> 'sod.nml').
+  function base_name(path) result(r)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: r
+    integer :: k
+    r = trim(path)
+    do while (len(r) > 1)
+      if (r(len(r):len(r)) /= '/') exit
+      r = r(1:len(r) - 1)
+    end do
+    k = index(r, '/', back=.true.)
+    if (k > 0 .and. k < len(r)) r = r(k + 1:)
+  end function base_name
+
+  !> The folder part of a path, normalised ('./a//b/c.h5' -> 'a/b', 'c.h5' -> '.').
+  function dir_name(path) result(r)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: r
+    integer :: k
+    k = index(trim(path), '/', back=.true.)
+    if (k == 0) then
+      r = '.'
+    else
+      r = normal_path(path(1:k))
+    end if
+  end function dir_name
+
+  !> A path written one way only: no '//', no '/./', no leading './', no trailing '/'.
+  function normal_path(path) result(r)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: r
+    integer :: k
+    r = trim(adjustl(path))
+    do
+      k = index(r, '//')
+      if (k == 0) exit
+      r = r(1:k) // r(k + 2:)
+    end do
+    do
+      k = index(r, '/./')
+      if (k == 0) exit
+      r = r(1:k) // r(k + 3:)
+    end do
+    do while (len(r) > 2)
+      if (r(1:2) /= './') exit
+      r = r(3:)
+    end do
+    do while (len(r) > 1)
+      if (r(len(r):len(r)) == '/') then
+        r = r(1:len(r) - 1)
+      else if (len(r) > 2 .and. r(len(r) - 1:len(r)) == '/.') then
+        r = r(1:len(r) - 2)
+      else
+        exit
+      end if
+    end do
+    if (len(r) == 0) r = '.'
+  end function normal_path
+
+end module m_deck_text
