@@ -74,7 +74,7 @@ contains
         rho = wl(i, 1)
         un = wl(i, 2)
         en = enl
-        call euler_flux(wl(i, :), enl, fl)
+        call euler_flux(wl(i, 1), wl(i, 2), wl(i, 3), wl(i, 4), wl(i, 5), enl, fl)
         if (sl >= 0.0_wp) then
           f(i, :) = fl
           cycle
@@ -88,7 +88,7 @@ contains
         rho = wr(i, 1)
         un = wr(i, 2)
         en = enr
-        call euler_flux(wr(i, :), enr, fr)
+        call euler_flux(wr(i, 1), wr(i, 2), wr(i, 3), wr(i, 4), wr(i, 5), enr, fr)
         if (sr <= 0.0_wp) then
           f(i, :) = fr
           cycle
@@ -102,14 +102,14 @@ contains
     end do
   end subroutine flux_hllc
 
-  pure subroutine euler_flux(w, en, f)
-    real(wp), intent(in) :: w(5), en
+  pure subroutine euler_flux(rho, un, ut1, ut2, p, en, f)
+    real(wp), intent(in) :: rho, un, ut1, ut2, p, en
     real(wp), intent(out) :: f(5)
-    f(1) = w(1) * w(2)
-    f(2) = f(1) * w(2) + w(5)
-    f(3) = f(1) * w(3)
-    f(4) = f(1) * w(4)
-    f(5) = (en + w(5)) * w(2)
+    f(1) = rho * un
+    f(2) = f(1) * un + p
+    f(3) = f(1) * ut1
+    f(4) = f(1) * ut2
+    f(5) = (en + p) * un
   end subroutine euler_flux
 
 end module m_flux
