@@ -5,7 +5,7 @@ module m_timeloop
   use m_kinds, only: wp, i8, line_len
   use m_simulation, only: sim_t
   use m_halo, only: halo_exchange
-  use m_boundary, only: boundary_apply
+  use m_boundary, only: boundary_apply, boundary_walls
   use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update
   use m_output, only: output_plot, output_checkpoint, history_columns, history_values, &
     step_file_name
@@ -121,7 +121,8 @@ contains
     type(sim_t), intent(inout) :: sim
     integer :: stage, b
     integer(i8) :: nfall
-    real(wp) :: tstage
+    real(wp) :: tstage, vwall(2, 3)
+    logical :: wall(2, 3)
     real(wp), parameter :: stage_time(3, 3) = reshape([0.0_wp, 0.0_wp, 0.0_wp, &
       0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.5_wp], [3, 3])
     integer :: nf
@@ -134,8 +135,9 @@ contains
       call timer_stop(sim%timers, 'halo')
       call timer_start(sim%timers, 'fluxes')
       do b = 1, size(sim%blocks)
+        call boundary_walls(sim%lay, sim%bc, sim%blocks(b), tstage, wall, vwall)
         call euler_rhs(sim%lay, sim%eos, sim%scheme, sim%flux, sim%blocks(b)%q, &
-          sim%blocks(b)%rhs, sim%blocks(b)%offset, sim%work, nf)
+          sim%blocks(b)%rhs, sim%blocks(b)%offset, wall, vwall, sim%work, nf)
         call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, sim%blocks(b)%q, &
           sim%blocks(b)%q0, sim%blocks(b)%rhs)
       end do

@@ -15,7 +15,7 @@ module m_boundary
   implicit none
   private
   public :: bc_kind_t, bc_outflow, bc_symmetry, bc_rigid, bc_periodic, bc_velocity
-  public :: bc_from_name, boundary_apply
+  public :: bc_from_name, boundary_apply, boundary_walls
 
   integer, parameter :: bc_outflow = 1, bc_symmetry = 2, bc_rigid = 3, bc_periodic = 4
   integer, parameter :: bc_velocity = 5
@@ -78,6 +78,43 @@ contains
       end do
     end do
   end subroutine boundary_apply
+
+  !> The reflecting sides of a block at time t: wall(s, d) is true where side s (1 low, 2 high)
+  !> of direction d is a symmetry plane, a rigid or velocity wall, or the face of a rigid
+  !> obstacle; vwall is the normal velocity of that wall. The flux kernels set the ghost-side
+  !> face state to the mirror of the interior one there, so that mass and energy cross a
+  !> symmetry plane exactly not at all, whatever the reconstruction did with round-off.
+  subroutine boundary_walls(lay, bc, blk, time, wall, vwall)
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    type(block_t), intent(in) :: blk
+    real(wp), intent(in) :: time
+    logical, intent(out) :: wall(2, 3)
+    real(wp), intent(out) :: vwall(2, 3)
+    integer :: d, s, nbr, dir(3), kind
+    wall = .false.
+    vwall = 0.0_wp
+    do d = 1, lay%ndim
+      do s = 1, 2
+        dir = 0
+        dir(d) = 2 * s - 3
+        nbr = block_neighbor(lay, blk%id, dir)
+        if (nbr > 0) cycle
+        if (nbr == wall_neighbor) then
+          kind = bc_rigid
+        else if (s == 1) then
+          kind = bc%lo(d)
+        else
+          kind = bc%hi(d)
+        end if
+        wall(s, d) = kind == bc_symmetry .or. kind == bc_rigid .or. kind == bc_velocity
+        if (kind == bc_velocity) then
+          vwall(s, d) = bc%velocity(d)
+          if (bc%rise_time > 0.0_wp) vwall(s, d) = vwall(s, d) * min(1.0_wp, time / bc%rise_time)
+        end if
+      end do
+    end do
+  end subroutine boundary_walls
 
   !> Halo boxes with no source block take the value of the nearest interior cell.
   subroutine clamp_fill(lay, blk, nvar)

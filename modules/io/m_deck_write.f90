@@ -43,6 +43,14 @@ contains
         if (holds_results(dir)) call refuse('&run out_dir', "'" // trim(cfg%out_dir) &
           // "' already holds results (set overwrite = .true. or choose another out_dir)", '')
       end if
+      if (ok .and. cfg%overwrite .and. .not. continuing) then
+        ! a fresh run replaces the results it overwrites: an old plot file with a later step
+        ! number must not pass for this run's last one
+        call execute_command_line('rm -f ' // shell_quoted(dir) // '/run.log ' // &
+          shell_quoted(dir) // '/history.csv ' // shell_quoted(dir) // '/plot_*.h5 ' // &
+          shell_quoted(dir) // '/plot_*.xmf ' // shell_quoted(dir) // '/chk_*.h5', &
+          exitstat=stat, cmdstat=cmd_stat)
+      end if
       if (ok) then
         call execute_command_line('mkdir -p ' // shell_quoted(dir), exitstat=stat, &
           cmdstat=cmd_stat)

@@ -2,8 +2,10 @@
 !> L(U) = -sum_d dF_d/dx_d + S, dimension by dimension. Primitive variables
 !> (rho, u, v, w, p) are reconstructed on each pencil (m_reconstruct), face states that are
 !> not admissible (rho <= 0 or c^2 <= 0) fall back to the first-order cell values and are
-!> counted, and the face flux (m_flux) is differenced. In axisymmetric geometry (x = r,
-!> y = z) the geometric source S = -(u / r) (rho, rho u, rho v, 0, rho E + p) is added.
+!> counted, the outer state of a face on a reflecting side is set to the mirror of the inner
+!> one, and the face flux (m_flux) is differenced. In axisymmetric geometry (x = r,
+!> y = z) the radial fluxes are differenced in r-weighted (conservative) form and the hoop
+!> pressure p / r is added to the radial momentum.
 !> Also here: the largest signal rate for the CFL step and the RK stage update.
 !> Kernels only: no MPI, no I/O, no allocation in the loops (workspace is allocated once).
 module m_euler
@@ -69,16 +71,19 @@ contains
 
   !> rhs = L(q) over the interior of one block; nfallback counts faces that fell back to
   !> first order.
-  subroutine euler_rhs(lay, eos, scheme, flux_kind, q, rhs, offset, work, nfallback)
+  subroutine euler_rhs(lay, eos, scheme, flux_kind, q, rhs, offset, wall, vwall, work, &
+      nfallback)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     integer, intent(in) :: scheme, flux_kind, offset(3)
+    logical, intent(in) :: wall(2, 3)      !< reflecting sides (m_boundary)
+    real(wp), intent(in) :: vwall(2, 3)    !< their normal velocities
     real(wp), intent(in) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(out) :: rhs(:, :, :, :)
     type(euler_work_t), intent(inout) :: work
     integer, intent(inout) :: nfallback
     integer :: lo(3), hi(3), j, k, d, n, g, i, perm(5), nr, nb
-    real(wp) :: rdx, r, ur
+    real(wp) :: rdx, r
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
     nr = hi(1) - lo(1) + 1
@@ -102,8 +107,8 @@ contains
         nb = lay%bsize(2)
         do k = 1, lay%bsize(3)
           call bundle_x(k, nb, n, g, work%pw)
-          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, work%pw, work%wl, work%wr, &
-            work%el, work%er, work%cl, work%cr, work%f, nfallback)
+          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, wall(:, d), vwall(:, d), &
+            work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, nfallback)
           call scatter_x(k, nb, n, work%f)
         end do
       case (2)
@@ -111,8 +116,8 @@ contains
         nb = lay%bsize(1)
         do k = 1, lay%bsize(3)
           call bundle_y(k, nb, n, g, work%pw)
-          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, work%pw, work%wl, work%wr, &
-            work%el, work%er, work%cl, work%cr, work%f, nfallback)
+          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, wall(:, d), vwall(:, d), &
+            work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, nfallback)
           call scatter_y(k, nb, n, work%f)
         end do
       case default
@@ -120,23 +125,19 @@ contains
         nb = lay%bsize(1)
         do j = 1, lay%bsize(2)
           call bundle_z(j, nb, n, g, work%pw)
-          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, work%pw, work%wl, work%wr, &
-            work%el, work%er, work%cl, work%cr, work%f, nfallback)
+          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, wall(:, d), vwall(:, d), &
+            work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, nfallback)
           call scatter_z(j, nb, n, work%f)
         end do
       end select
     end do
     if (lay%axisymmetric) then
+      ! the hoop stress: the pressure term that the r-weighted divergence leaves (eq. 1.1)
       do k = 1, lay%bsize(3)
         do j = 1, lay%bsize(2)
           do i = 1, lay%bsize(1)
             r = lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1)
-            rhs(i, j, k, i_rho) = rhs(i, j, k, i_rho) - q(i, j, k, i_mx) / r
-            ur = work%prim(i, j, k, 2) / r
-            rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) - q(i, j, k, i_mx) * ur
-            rhs(i, j, k, i_my) = rhs(i, j, k, i_my) - q(i, j, k, i_my) * ur
-            rhs(i, j, k, i_en) = rhs(i, j, k, i_en) &
-              - (q(i, j, k, i_en) + work%prim(i, j, k, 5)) * ur
+            rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + work%prim(i, j, k, 5) / r
           end do
         end do
       end do
@@ -157,15 +158,29 @@ contains
       end do
     end subroutine bundle_x
 
+    !> In axisymmetric geometry the radial fluxes are weighted by the face radius and divided
+    !> by the cell radius: (r F)_{i+1/2} - (r F)_{i-1/2} over r_i dr (eq. 1.1), which
+    !> conserves mass, axial momentum and energy in the volume 2 pi r dr dz.
     subroutine scatter_x(k0, nbb, nn, f)
       integer, intent(in) :: k0, nbb, nn
       real(wp), intent(in) :: f(nbb, 0:nn, 5)
       integer :: mm, ii, jj
+      real(wp) :: wlo(nn), whi(nn), rc, rf
+      do ii = 1, nn
+        wlo(ii) = rdx
+        whi(ii) = rdx
+        if (lay%axisymmetric) then
+          rf = lay%lo(1) + real(offset(1) + ii - 1, wp) * lay%dx(1)
+          rc = rf + 0.5_wp * lay%dx(1)
+          wlo(ii) = rdx * rf / rc
+          whi(ii) = rdx * (rf + lay%dx(1)) / rc
+        end if
+      end do
       do mm = 1, 5
         do jj = 1, nbb
           do ii = 1, nn
             rhs(ii, jj, k0, perm(mm)) = rhs(ii, jj, k0, perm(mm)) &
-              - rdx * (f(jj, ii, mm) - f(jj, ii - 1, mm))
+              - (whi(ii) * f(jj, ii, mm) - wlo(ii) * f(jj, ii - 1, mm))
           end do
         end do
       end do
@@ -222,10 +237,12 @@ contains
   !> Face states and fluxes of a bundle of nb pencils of n cells: reconstruct, test
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
-  subroutine faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, pw, wl, wr, el, er, cl, cr, &
-      f, nfallback)
+  subroutine faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, wall, vwall, pw, wl, wr, el, &
+      er, cl, cr, f, nfallback)
     type(eos_t), intent(in) :: eos
     integer, intent(in) :: scheme, flux_kind, nb, n, g
+    logical, intent(in) :: wall(2)
+    real(wp), intent(in) :: vwall(2)
     real(wp), intent(in) :: pw(nb, 1-g:n+g, 5)
     real(wp), intent(out) :: wl(nb, 0:n, 5), wr(nb, 0:n, 5), el(nb, 0:n), er(nb, 0:n)
     real(wp), intent(out) :: cl(nb, 0:n), cr(nb, 0:n), f(nb, 0:n, 5)
@@ -233,6 +250,16 @@ contains
     integer :: i, b, nf
     nf = nb * (n + 1)
     call reconstruct_faces(scheme, nb, n, g, 5, pw, wl, wr)
+    ! a reflecting side: the outer face state is the mirror of the inner one (normal
+    ! velocity 2 V - u), so the mass and energy fluxes are exactly those of the wall
+    if (wall(1)) then
+      wl(:, 0, :) = wr(:, 0, :)
+      wl(:, 0, 2) = 2.0_wp * vwall(1) - wr(:, 0, 2)
+    end if
+    if (wall(2)) then
+      wr(:, n, :) = wl(:, n, :)
+      wr(:, n, 2) = 2.0_wp * vwall(2) - wl(:, n, 2)
+    end if
     call eos_sound_speed2(eos, nf, wl(:, :, 1), wl(:, :, 5), cl)
     call eos_sound_speed2(eos, nf, wr(:, :, 1), wr(:, :, 5), cr)
     if (.not. all(wl(:, :, 1) > 0.0_wp .and. wr(:, :, 1) > 0.0_wp .and. cl > 0.0_wp &

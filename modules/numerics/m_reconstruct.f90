@@ -56,7 +56,8 @@ contains
     end do
   end subroutine reconstruct_faces
 
-  !> ENO2: the smaller of the two one-sided slopes (no limiting to zero at extrema).
+  !> ENO2: the smaller of the two one-sided slopes (no limiting to zero at extrema); on a tie
+  !> their mean, so that the choice is mirror-symmetric.
   subroutine eno2(nb, n, ng, v, vm, vp)
     integer, intent(in) :: nb, n, ng
     real(wp), intent(in) :: v(nb, 1-ng:n+ng)
@@ -68,6 +69,7 @@ contains
         dl = v(b, i) - v(b, i-1)
         dr = v(b, i+1) - v(b, i)
         slope = merge(dl, dr, abs(dl) < abs(dr))
+        if (.not. (abs(dl) < abs(dr) .or. abs(dr) < abs(dl))) slope = 0.5_wp * (dl + dr)
         vm(b, i) = v(b, i) - 0.5_wp * slope
         vp(b, i) = v(b, i) + 0.5_wp * slope
       end do
@@ -75,7 +77,9 @@ contains
   end subroutine eno2
 
   !> ENO3: grow the stencil {i} by one cell twice, each time towards the smaller undivided
-  !> difference; r = number of cells of the stencil left of i (0, 1 or 2).
+  !> difference; r = number of cells of the stencil left of i (0, 1 or 2). Ties go to the
+  !> central stencil (r = 1) at both levels: the choice is then the mirror image of the choice
+  !> on mirrored data, which a symmetry plane needs to carry no mass.
   subroutine eno3(nb, n, ng, v, vm, vp)
     integer, intent(in) :: nb, n, ng
     real(wp), intent(in) :: v(nb, 1-ng:n+ng)
@@ -84,7 +88,7 @@ contains
     real(wp), parameter :: c7 = 7.0_wp / 6.0_wp, c11 = 11.0_wp / 6.0_wp
     real(wp) :: d1l, d1r, d2a, d2b, d2c, p0m, p0p, p1m, p1p, p2m, p2p
     real(wp) :: a, bb, c, d, e
-    logical :: left1, left2a, left2b
+    logical :: left1, right1, left2a, right2b
     integer :: i, b
     do i = 0, n + 1
       do b = 1, nb
@@ -93,22 +97,29 @@ contains
         c = v(b, i)
         d = v(b, i+1)
         e = v(b, i+2)
+        ! every expression is written so that its mirror image (a <-> e, bb <-> d) is the
+        ! same floating-point operations: ties then break the same way on mirrored data
         d1l = abs(c - bb)
         d1r = abs(d - c)
-        d2a = abs(c - 2.0_wp * bb + a)      ! stencil {i-2, i-1, i}
-        d2b = abs(d - 2.0_wp * c + bb)      ! stencil {i-1, i, i+1}
-        d2c = abs(e - 2.0_wp * d + c)       ! stencil {i, i+1, i+2}
+        d2a = abs((a + c) - 2.0_wp * bb)    ! stencil {i-2, i-1, i}
+        d2b = abs((bb + d) - 2.0_wp * c)    ! stencil {i-1, i, i+1}
+        d2c = abs((c + e) - 2.0_wp * d)     ! stencil {i, i+1, i+2}
         left1 = d1l < d1r
-        left2a = d2a < d2b     ! from {i-1, i}: extend left?
-        left2b = d2b < d2c     ! from {i, i+1}: extend left?
-        p2m = -c6 * a + c5 * bb + c1 * c
-        p2p = c1 * a - c7 * bb + c11 * c
-        p1m = c1 * bb + c5 * c - c6 * d
-        p1p = -c6 * bb + c5 * c + c1 * d
-        p0m = c11 * c - c7 * d + c1 * e
-        p0p = c1 * c + c5 * d - c6 * e
-        vm(b, i) = merge(merge(p2m, p1m, left2a), merge(p1m, p0m, left2b), left1)
-        vp(b, i) = merge(merge(p2p, p1p, left2a), merge(p1p, p0p, left2b), left1)
+        right1 = d1r < d1l
+        left2a = d2a < d2b     ! from {i-1, i}: extend left (else the central stencil)?
+        right2b = d2c < d2b    ! from {i, i+1}: extend right (else the central stencil)?
+        p2m = (c1 * c + c5 * bb) - c6 * a
+        p2p = (c11 * c - c7 * bb) + c1 * a
+        p1m = (c5 * c + c1 * bb) - c6 * d
+        p1p = (c5 * c + c1 * d) - c6 * bb
+        p0m = (c11 * c - c7 * d) + c1 * e
+        p0p = (c1 * c + c5 * d) - c6 * e
+        ! a tie keeps the central stencil, so that mirror-symmetric data stay symmetric
+        ! (and nothing crosses a symmetry plane)
+        vm(b, i) = merge(merge(p2m, p1m, left2a), merge(merge(p0m, p1m, right2b), p1m, right1), &
+          left1)
+        vp(b, i) = merge(merge(p2p, p1p, left2a), merge(merge(p0p, p1p, right2b), p1p, right1), &
+          left1)
       end do
     end do
   end subroutine eno3
