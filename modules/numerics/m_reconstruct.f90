@@ -68,8 +68,9 @@ contains
       do b = 1, nb
         dl = v(b, i) - v(b, i-1)
         dr = v(b, i+1) - v(b, i)
-        slope = merge(dl, dr, abs(dl) < abs(dr))
-        if (.not. (abs(dl) < abs(dr) .or. abs(dr) < abs(dl))) slope = 0.5_wp * (dl + dr)
+        ! the choice biased to each side, averaged: the same slope unless |dl| = |dr|, where
+        ! it is their mean (single merges keep the loop vectorised)
+        slope = 0.5_wp * (merge(dl, dr, abs(dl) < abs(dr)) + merge(dr, dl, abs(dr) < abs(dl)))
         vm(b, i) = v(b, i) - 0.5_wp * slope
         vp(b, i) = v(b, i) + 0.5_wp * slope
       end do
@@ -77,9 +78,9 @@ contains
   end subroutine eno2
 
   !> ENO3: grow the stencil {i} by one cell twice, each time towards the smaller undivided
-  !> difference; r = number of cells of the stencil left of i (0, 1 or 2). Ties go to the
-  !> central stencil (r = 1) at both levels: the choice is then the mirror image of the choice
-  !> on mirrored data, which a symmetry plane needs to carry no mass.
+  !> difference; r = number of cells of the stencil left of i (0, 1 or 2). On a tie the two
+  !> mirror-image choices are averaged, so that the result on mirrored data is the mirror
+  !> image of the result.
   subroutine eno3(nb, n, ng, v, vm, vp)
     integer, intent(in) :: nb, n, ng
     real(wp), intent(in) :: v(nb, 1-ng:n+ng)
@@ -88,7 +89,7 @@ contains
     real(wp), parameter :: c7 = 7.0_wp / 6.0_wp, c11 = 11.0_wp / 6.0_wp
     real(wp) :: d1l, d1r, d2a, d2b, d2c, p0m, p0p, p1m, p1p, p2m, p2p
     real(wp) :: a, bb, c, d, e
-    logical :: left1, right1, left2a, right2b
+    real(wp) :: tm, tp, um, up
     integer :: i, b
     do i = 0, n + 1
       do b = 1, nb
@@ -104,22 +105,22 @@ contains
         d2a = abs((a + c) - 2.0_wp * bb)    ! stencil {i-2, i-1, i}
         d2b = abs((bb + d) - 2.0_wp * c)    ! stencil {i-1, i, i+1}
         d2c = abs((c + e) - 2.0_wp * d)     ! stencil {i, i+1, i+2}
-        left1 = d1l < d1r
-        right1 = d1r < d1l
-        left2a = d2a < d2b     ! from {i-1, i}: extend left (else the central stencil)?
-        right2b = d2c < d2b    ! from {i, i+1}: extend right (else the central stencil)?
         p2m = (c1 * c + c5 * bb) - c6 * a
         p2p = (c11 * c - c7 * bb) + c1 * a
         p1m = (c5 * c + c1 * bb) - c6 * d
         p1p = (c5 * c + c1 * d) - c6 * bb
         p0m = (c11 * c - c7 * d) + c1 * e
         p0p = (c1 * c + c5 * d) - c6 * e
-        ! a tie keeps the central stencil, so that mirror-symmetric data stay symmetric
-        ! (and nothing crosses a symmetry plane)
-        vm(b, i) = merge(merge(p2m, p1m, left2a), merge(merge(p0m, p1m, right2b), p1m, right1), &
-          left1)
-        vp(b, i) = merge(merge(p2p, p1p, left2a), merge(merge(p0p, p1p, right2b), p1p, right1), &
-          left1)
+        ! the choice with ties broken to the right (tm, tp) and its mirror image with ties
+        ! broken to the left (um, up), averaged: without a tie both are the same stencil and
+        ! the average is exact; with a tie the result is the mirror-symmetric mean, so that
+        ! mirrored data stay mirrored (two-level merges keep the loop vectorised)
+        tm = merge(merge(p2m, p1m, d2a < d2b), merge(p1m, p0m, d2b < d2c), d1l < d1r)
+        tp = merge(merge(p2p, p1p, d2a < d2b), merge(p1p, p0p, d2b < d2c), d1l < d1r)
+        um = merge(merge(p0m, p1m, d2c < d2b), merge(p1m, p2m, d2b < d2a), d1r < d1l)
+        up = merge(merge(p0p, p1p, d2c < d2b), merge(p1p, p2p, d2b < d2a), d1r < d1l)
+        vm(b, i) = 0.5_wp * (tm + um)
+        vp(b, i) = 0.5_wp * (tp + up)
       end do
     end do
   end subroutine eno3
