@@ -27,6 +27,27 @@ module m_config
     real(wp) :: gruneisen = unset   !< Mie-Gruneisen Gamma0
     real(wp) :: cv = unset          !< specific heat at constant volume (J/kg K)
     real(wp) :: T0 = unset          !< reference temperature (K)
+    ! polynomial Mie-Gruneisen (eos 'polynomial_mie_gruneisen'):
+    ! p = K mu + A mu^2 + B mu^3 + gruneisen (1 + mu) rho0 e, mu = rho / rho0 - 1
+    real(wp) :: bulk_modulus = unset   !< K (Pa)
+    real(wp) :: poly_a = unset         !< A (Pa)
+    real(wp) :: poly_b = unset         !< B (Pa)
+    ! strength: strength_model 'none' | 'elastic' | 'perfectly_plastic' | 'linear_hardening' |
+    ! 'johnson_cook' | 'viscoplastic_power_law'
+    character(len=name_len) :: strength_model = ''
+    real(wp) :: shear_modulus = unset      !< G (Pa)
+    real(wp) :: yield0 = unset             !< initial yield stress; Johnson-Cook A (Pa)
+    real(wp) :: hardening_modulus = unset  !< linear hardening H = d sigma_y / d eps_p (Pa)
+    real(wp) :: jc_b = unset               !< Johnson-Cook B (Pa)
+    real(wp) :: jc_n = unset               !< Johnson-Cook n
+    real(wp) :: jc_c = unset               !< Johnson-Cook C
+    real(wp) :: jc_m = unset               !< Johnson-Cook m
+    real(wp) :: t_melt = unset             !< melt temperature (K): no strength above it
+    real(wp) :: eps_rate0 = unset          !< reference plastic strain rate (1/s)
+    real(wp) :: vp_chi = unset             !< power law: rate = chi eps_rate^m sigma^n (MPa^-n)
+    real(wp) :: vp_m = unset
+    real(wp) :: vp_n = unset
+    real(wp) :: taylor_quinney = unset     !< share of plastic work turned into heat (0.9)
   end type material_t
 
   !> One &body group. material may be a material name, 'void' or 'rigid'.

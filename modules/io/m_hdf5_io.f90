@@ -1,7 +1,7 @@
 !> Every HDF5 call of SABRE (DESIGN section 7): plot and checkpoint files hold GLOBAL datasets
 !> of Fortran shape (cells(1), cells(2), cells(3)) (h5py sees (nz, ny, nx)); 1D and 2D runs
 !> still use 3D datasets with size 1 in the unused directions. Files are opened with the
-!> MPI-IO driver on MPI_COMM_WORLD; each rank writes and reads the interior cells of its own
+!> MPI-IO driver on the world communicator (its handle from m_comm); each rank writes and reads the interior cells of its own
 !> blocks as hyperslabs with independent transfers, so blocks may come back to a different
 !> owner than the one that wrote them (restart on another rank count). Every public routine
 !> is collective: every rank calls it, even one holding no block, because HDF5 creates files,
@@ -10,7 +10,6 @@
 !> An HDF5 failure stops the run through fatal with the file and object named. This module
 !> knows nothing of physics or of which fields exist; the XDMF companion file is m_xdmf's.
 module m_hdf5_io
-  use mpi_f08, only: MPI_COMM_WORLD, MPI_INFO_NULL
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5close_f, h5eset_auto_f, &
     h5fcreate_f, h5fopen_f, h5fclose_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, &
     h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_fill_value_f, &
@@ -26,7 +25,7 @@ module m_hdf5_io
     H5T_STD_I32LE, H5T_STR_NULLPAD_F, H5T_STRING_F
   use m_kinds, only: wp
   use m_layout, only: layout_t, block_offset
-  use m_comm, only: comm_is_root, comm_bcast
+  use m_comm, only: comm_is_root, comm_bcast, comm_world_handles
   use m_errors, only: fatal
   implicit none
   private
@@ -470,12 +469,13 @@ contains
   end subroutine write_real_vector
 
   !> A file access property list for the MPI-IO driver on all ranks. The HDF5 1.10
-  !> Fortran interface takes the old integer handles, hence %mpi_val.
+  !> Fortran interface takes the old integer handles, which m_comm hands out.
   integer(hid_t) function mpio_access_list(path) result(fapl)
     character(len=*), intent(in) :: path
-    integer :: err
+    integer :: err, mpi_comm, mpi_info
     call h5pcreate_f(H5P_FILE_ACCESS_F, fapl, err)
-    call h5pset_fapl_mpio_f(fapl, MPI_COMM_WORLD%mpi_val, MPI_INFO_NULL%mpi_val, err)
+    call comm_world_handles(mpi_comm, mpi_info)
+    call h5pset_fapl_mpio_f(fapl, mpi_comm, mpi_info, err)
     if (err < 0) call fatal(here, 'cannot set up MPI-IO access to ' // path // &
       ': is the HDF5 library the parallel (openmpi) build?')
   end function mpio_access_list

@@ -10,7 +10,7 @@ module m_comm
   private
   public :: comm_init, comm_finalize, comm_rank, comm_size, comm_is_root, comm_barrier
   public :: comm_min, comm_max, comm_sum, comm_sum_array, comm_any, comm_minloc_rank
-  public :: comm_bcast, comm_abort, comm_exit, comm_wtime
+  public :: comm_bcast, comm_abort, comm_exit, comm_wtime, comm_world_handles
   public :: comm_exchange_t, exchange_start, exchange_wait
 
   integer :: my_rank = 0
@@ -78,6 +78,14 @@ contains
     integer :: ierr
     call MPI_Barrier(MPI_COMM_WORLD, ierr)
   end subroutine comm_barrier
+
+  !> The integer (pre-mpi_f08) handles of the world communicator and the null info object,
+  !> for libraries with an MPI interface of their own (parallel HDF5).
+  subroutine comm_world_handles(comm, info)
+    integer, intent(out) :: comm, info
+    comm = MPI_COMM_WORLD%mpi_val
+    info = MPI_INFO_NULL%mpi_val
+  end subroutine comm_world_handles
 
   real(wp) function comm_wtime()
     comm_wtime = MPI_Wtime()
