@@ -16,6 +16,8 @@ PY := /usr/bin/python3
 export OMPI_ALLOW_RUN_AS_ROOT := 1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
 export OMPI_MCA_rmaps_base_oversubscribe := 1
+# mpirun otherwise waits a 1 s kill round after any rank exits non-zero (a bad deck)
+export OMPI_MCA_odls_base_sigkill_timeout := 0
 
 STD_FLAGS := -std=f2018 -ffree-line-length-132 -I$(HDF5_INC)
 REL_FLAGS := $(STD_FLAGS) -O3 -march=native -g -fno-backtrace
