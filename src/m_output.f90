@@ -4,7 +4,8 @@
 module m_output
   use m_kinds, only: wp, i8, name_len, path_len
   use m_simulation, only: sim_t
-  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en
+  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, i_sxx, i_syy, i_szz, i_sxy, i_syz, &
+    i_sxz, i_epsp
   use m_euler, only: primitive_row
   use m_eos, only: eos_temperature, eos_sound_speed2
   use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
@@ -17,8 +18,9 @@ module m_output
   public :: output_plot, output_checkpoint, output_restart, history_columns, history_values
   public :: step_file_name
 
-  character(len=name_len), parameter :: state_names(5) = &
-    [character(len=name_len) :: '/state/q1', '/state/q2', '/state/q3', '/state/q4', '/state/q5']
+  character(len=name_len), parameter :: state_names(12) = [character(len=name_len) :: &
+    '/state/q1', '/state/q2', '/state/q3', '/state/q4', '/state/q5', '/state/q6', &
+    '/state/q7', '/state/q8', '/state/q9', '/state/q10', '/state/q11', '/state/q12']
 
 contains
 
@@ -93,6 +95,8 @@ contains
             case ('mach')
               call eos_sound_speed2(sim%eos, n, rho, p, aux)
               aux = sqrt(u**2 + v**2 + w**2) / sqrt(max(aux, tiny(1.0_wp)))
+            case ('sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz', 'eps_p', 'seq')
+              aux = solid_field(name, q(1:n, j, k, :), rho)
             case default
               aux = 0.0_wp
             end select
@@ -102,6 +106,35 @@ contains
       end associate
     end do
   end subroutine field_values
+
+  !> A strength field of one row (zero when the state carries no stress): a deviatoric
+  !> component, the effective plastic strain, or the von Mises stress sqrt(3 J2).
+  function solid_field(name, qrow, rho) result(aux)
+    character(len=*), intent(in) :: name
+    real(wp), intent(in) :: qrow(:, :), rho(:)
+    real(wp) :: aux(size(rho))
+    aux = 0.0_wp
+    if (size(qrow, 2) < i_epsp) return
+    select case (name)
+    case ('sxx')
+      aux = qrow(:, i_sxx) / rho
+    case ('syy')
+      aux = qrow(:, i_syy) / rho
+    case ('szz')
+      aux = qrow(:, i_szz) / rho
+    case ('sxy')
+      aux = qrow(:, i_sxy) / rho
+    case ('syz')
+      aux = qrow(:, i_syz) / rho
+    case ('sxz')
+      aux = qrow(:, i_sxz) / rho
+    case ('eps_p')
+      aux = qrow(:, i_epsp) / rho
+    case default
+      aux = sqrt(1.5_wp * (qrow(:, i_sxx)**2 + qrow(:, i_syy)**2 + qrow(:, i_szz)**2 &
+        + 2.0_wp * (qrow(:, i_sxy)**2 + qrow(:, i_syz)**2 + qrow(:, i_sxz)**2))) / rho
+    end select
+  end function solid_field
 
   !> chk_NNNNNN.h5: the conserved state and the clock, enough for a bit-identical restart.
   subroutine output_checkpoint(sim, deck_text)
@@ -180,7 +213,7 @@ contains
   function history_values(sim) result(v)
     type(sim_t), intent(in) :: sim
     real(wp) :: v(13)
-    real(wp) :: tot(8), vol, r, pmax, tmax
+    real(wp) :: tot(8), vol, r, pmax, tmax, epmax
     real(wp), dimension(sim%lay%bsize(1)) :: rho, u, vv, w, p, e, temp, dv
     integer :: b, i, j, k, n
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
@@ -188,6 +221,7 @@ contains
     tot = 0.0_wp
     pmax = -huge(1.0_wp)
     tmax = -huge(1.0_wp)
+    epmax = 0.0_wp
     vol = product(sim%lay%dx(1:sim%lay%ndim))
     do b = 1, size(sim%blocks)
       associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
@@ -212,13 +246,14 @@ contains
             tot(7) = tot(7) + sum(dv * q(1:n, j, k, i_en))
             pmax = max(pmax, maxval(p))
             tmax = max(tmax, maxval(temp))
+            if (sim%has_strength) epmax = max(epmax, maxval(q(1:n, j, k, i_epsp) / rho))
           end do
         end do
       end associate
     end do
     tot(8) = real(sim%fallback_step, wp)
     call comm_sum_array(tot(1:7))
-    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), 0.0_wp, tot(8)]
+    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), comm_max(epmax), tot(8)]
   end function history_values
 
 end module m_output

@@ -11,12 +11,14 @@ module m_simulation
   use m_halo, only: halo_plan_t, halo_plan_build
   use m_partition, only: partition_blocks
   use m_boundary, only: bc_kind_t, bc_from_name
-  use m_eos, only: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_energy
+  use m_eos, only: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial, &
+    eos_energy
   use m_euler, only: euler_work_t, euler_work_init
   use m_reconstruct, only: scheme_from_name
   use m_flux, only: flux_from_name
   use m_scene, only: inside_body, cell_centre, rigid_block_status
-  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler
+  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid
+  use m_yield, only: strength_t, strength_from_material, strength_none
   use m_timers, only: timers_t
   use m_comm, only: comm_rank
   use m_errors, only: stop_collective
@@ -33,6 +35,10 @@ module m_simulation
     type(eos_t) :: eos
     type(bc_kind_t) :: bc
     integer :: nvar = n_euler
+    logical :: has_strength = .false.  !< the state carries rho S and rho eps_p
+    real(wp) :: shear = 0.0_wp         !< shear modulus of the material (0: fluid)
+    type(strength_t) :: st
+    character(len=128) :: strength_reason = ''
     integer :: scheme = 3, flux = 1
     real(wp) :: time = 0.0_wp, dt = 0.0_wp, dt_first = 0.0_wp
     integer :: step = 0
@@ -97,14 +103,27 @@ contains
         end if
       end associate
     end do
+    km = material_index(cfg, cfg%base_material)
+    mat = cfg%materials(km)
+    sim%st = strength_from_material(mat)
+    sim%has_strength = cfg%strength .and. sim%st%model /= strength_none
+    if (sim%has_strength) then
+      sim%nvar = n_solid
+      sim%shear = sim%st%g
+      sim%strength_reason = 'on: material ' // trim(mat%name) // ' has ' // &
+        trim(mat%strength_model)
+    else if (sim%st%model /= strength_none) then
+      sim%strength_reason = 'off: &physics strength = .false. (material ' // trim(mat%name) // &
+        ' has ' // trim(mat%strength_model) // ')'
+    else
+      sim%strength_reason = 'off: material ' // trim(mat%name) // ' has no strength'
+    end if
     allocate(work(sim%lay%nblocks))
     work = product(sim%lay%bsize)
     call partition_blocks(sim%lay, work)
     call blocks_allocate(sim%lay, comm_rank(), sim%nvar, sim%blocks)
     call halo_plan_build(sim%lay, sim%blocks, sim%plan)
-    call euler_work_init(sim%lay, sim%work)
-    km = material_index(cfg, cfg%base_material)
-    mat = cfg%materials(km)
+    call euler_work_init(sim%lay, sim%nvar, sim%work)
     sim%eos = eos_of(mat)
     sim%scheme = scheme_from_name(cfg%scheme)
     sim%flux = flux_from_name(cfg%flux)
@@ -118,6 +137,8 @@ contains
       eos%kind = eos_stiffened_gas
     case ('mie_gruneisen')
       eos%kind = eos_mie_gruneisen
+    case ('polynomial_mie_gruneisen')
+      eos%kind = eos_polynomial
     case default
       eos%kind = eos_ideal_gas
     end select
@@ -129,6 +150,9 @@ contains
     if (is_set(mat%gruneisen)) eos%gruneisen = mat%gruneisen
     if (is_set(mat%cv)) eos%cv = mat%cv
     if (is_set(mat%T0)) eos%T0 = mat%T0
+    if (is_set(mat%bulk_modulus)) eos%bulk = mat%bulk_modulus
+    if (is_set(mat%poly_a)) eos%poly_a = mat%poly_a
+    if (is_set(mat%poly_b)) eos%poly_b = mat%poly_b
   end function eos_of
 
   !> Initial state: the base material at its reference state at rest, then every body of

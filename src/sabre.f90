@@ -110,10 +110,16 @@ contains
     call log_line(line)
     call log_line('material: ' // trim(s%cfg%base_material) // ' (eos ' // &
       trim(eos_name(s)) // ')')
-    call log_line('effects: strength off (no material has strength); thermal off; ' // &
-      'heat conduction off; reaction off; interfaces off (no body of another material)')
-    write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
-      'rho w, rho E)'
+    call log_line('effects: strength ' // trim(s%strength_reason))
+    call log_line('effects: heat conduction off, reaction off (not in this version); ' // &
+      'interfaces off (no body of another material)')
+    if (s%has_strength) then
+      write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
+        'rho w, rho E, rho S (6), rho eps_p)'
+    else
+      write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
+        'rho w, rho E)'
+    end if
     call log_line(line)
   end subroutine write_run_header
 

@@ -9,17 +9,21 @@
 !> eta = 1 - rho0/rho, in compression (eta >= 0) and the linear branch rho0 c0^2 (rho/rho0 - 1)
 !> in expansion; e_H = p_H eta / (2 rho0) (Rankine-Hugoniot energy from rest at e = 0).
 !> Temperature: T = T0 + (e - e_H(rho)) / cv (the Hugoniot as the reference curve).
+!> Polynomial Mie-Gruneisen (eq. 2.6, published-data section C): with mu = rho/rho0 - 1,
+!> p = K mu + A mu^2 + B mu^3 + gamma rho e (the A and B terms in compression only; gamma
+!> (1 + mu) rho0 e = gamma rho e), T = T0 + e / cv.
 !> Not here: strength, reaction, mixtures.
 module m_eos
   use m_kinds, only: wp
   implicit none
   private
-  public :: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen
+  public :: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial
   public :: eos_pressure, eos_energy, eos_sound_speed2, eos_temperature, eos_min_pressure
 
   integer, parameter :: eos_ideal_gas = 1
   integer, parameter :: eos_stiffened_gas = 2
   integer, parameter :: eos_mie_gruneisen = 3
+  integer, parameter :: eos_polynomial = 4
 
   type :: eos_t
     integer :: kind = eos_ideal_gas
@@ -31,6 +35,9 @@ module m_eos
     real(wp) :: gruneisen = 0.0_wp
     real(wp) :: cv = 1.0_wp
     real(wp) :: T0 = 0.0_wp
+    real(wp) :: bulk = 0.0_wp       !< polynomial: K
+    real(wp) :: poly_a = 0.0_wp     !< polynomial: A
+    real(wp) :: poly_b = 0.0_wp     !< polynomial: B
   end type eos_t
 
 contains
@@ -68,6 +75,10 @@ contains
       p = (eos%gamma - 1.0_wp) * rho * e
     case (eos_stiffened_gas)
       p = (eos%gamma - 1.0_wp) * rho * e - eos%gamma * eos%p_inf
+    case (eos_polynomial)
+      do i = 1, n
+        p(i) = poly_cold(eos, rho(i)) + eos%gruneisen * rho(i) * e(i)
+      end do
     case default
       do i = 1, n
         call hugoniot(eos, rho(i), ph, eh, dph, deh)
@@ -88,6 +99,10 @@ contains
       e = p / ((eos%gamma - 1.0_wp) * rho)
     case (eos_stiffened_gas)
       e = (p + eos%gamma * eos%p_inf) / ((eos%gamma - 1.0_wp) * rho)
+    case (eos_polynomial)
+      do i = 1, n
+        e(i) = (p(i) - poly_cold(eos, rho(i))) / (eos%gruneisen * rho(i))
+      end do
     case default
       do i = 1, n
         call hugoniot(eos, rho(i), ph, eh, dph, deh)
@@ -110,6 +125,12 @@ contains
       c2 = eos%gamma * p / rho
     case (eos_stiffened_gas)
       c2 = eos%gamma * (p + eos%p_inf) / rho
+    case (eos_polynomial)
+      do i = 1, n
+        ! dp/drho|_e = dP_cold/drho + gamma e, with e = (p - P_cold) / (gamma rho)
+        c2(i) = poly_dcold(eos, rho(i)) + (p(i) - poly_cold(eos, rho(i))) / rho(i) &
+          + eos%gruneisen * p(i) / rho(i)
+      end do
     case default
       g = eos%gruneisen * eos%rho0
       do i = 1, n
@@ -131,6 +152,8 @@ contains
       T = e / eos%cv
     case (eos_stiffened_gas)
       T = (e - eos%p_inf / rho) / eos%cv
+    case (eos_polynomial)
+      T = eos%T0 + e / eos%cv
     case default
       do i = 1, n
         call hugoniot(eos, rho(i), ph, eh, dph, deh)
@@ -138,6 +161,26 @@ contains
       end do
     end select
   end subroutine eos_temperature
+
+  !> Cold part of the polynomial EOS, P_cold = K mu + A mu^2 + B mu^3 (A, B in compression).
+  elemental real(wp) function poly_cold(eos, rho) result(pc)
+    type(eos_t), intent(in) :: eos
+    real(wp), intent(in) :: rho
+    real(wp) :: mu
+    mu = rho / eos%rho0 - 1.0_wp
+    pc = eos%bulk * mu
+    if (mu > 0.0_wp) pc = pc + mu**2 * (eos%poly_a + eos%poly_b * mu)
+  end function poly_cold
+
+  elemental real(wp) function poly_dcold(eos, rho) result(dpc)
+    type(eos_t), intent(in) :: eos
+    real(wp), intent(in) :: rho
+    real(wp) :: mu
+    mu = rho / eos%rho0 - 1.0_wp
+    dpc = eos%bulk
+    if (mu > 0.0_wp) dpc = dpc + mu * (2.0_wp * eos%poly_a + 3.0_wp * eos%poly_b * mu)
+    dpc = dpc / eos%rho0
+  end function poly_dcold
 
   !> The lowest admissible pressure of a gas (a state at or below it has no sound speed);
   !> -huge for Mie-Gruneisen solids, which may carry tension.

@@ -11,7 +11,7 @@ module m_boundary
   use m_kinds, only: wp
   use m_layout, only: layout_t, block_neighbor, wall_neighbor
   use m_blocks, only: block_t
-  use m_state, only: i_rho, i_mx, i_en
+  use m_state, only: i_rho, i_mx, i_en, n_euler, stress_index
   implicit none
   private
   public :: bc_kind_t, bc_outflow, bc_symmetry, bc_rigid, bc_periodic, bc_velocity
@@ -180,6 +180,13 @@ contains
             q(i, j, k, m) = q(src(1), src(2), src(3), m)
           end do
           if (kind == bc_outflow) cycle
+          if (nvar > n_euler) then
+            ! mirror in direction d: the shear stresses S_dt change sign
+            do m = 1, 3
+              if (m == d) cycle
+              q(i, j, k, stress_index(d, m)) = -q(i, j, k, stress_index(d, m))
+            end do
+          end if
           rho = q(i, j, k, i_rho)
           un_old = q(i, j, k, imom) / rho
           un_new = 2.0_wp * vwall - un_old

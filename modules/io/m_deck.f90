@@ -368,13 +368,19 @@ contains
     character(len=*), intent(in) :: base
     type(deck_group_t), intent(in) :: g
     type(material_t), intent(out) :: mat
-    character(len=name_len) :: name, eos
+    character(len=name_len) :: name, eos, strength_model
     real(wp) :: rho0, p0, gamma, p_inf, c0, s, gruneisen, cv, T0
+    real(wp) :: bulk_modulus, poly_a, poly_b
+    real(wp) :: shear_modulus, yield0, hardening_modulus, jc_b, jc_n, jc_c, jc_m, t_melt, &
+      eps_rate0, vp_chi, vp_m, vp_n, taylor_quinney
     integer :: k, pass, ios
     logical :: found
     character(len=:), allocatable :: rec
     character(len=line_len) :: msg
-    namelist /material/ name, eos, rho0, p0, gamma, p_inf, c0, s, gruneisen, cv, T0
+    namelist /material/ name, eos, rho0, p0, gamma, p_inf, c0, s, gruneisen, cv, T0, &
+      bulk_modulus, poly_a, poly_b, strength_model, shear_modulus, yield0, &
+      hardening_modulus, jc_b, jc_n, jc_c, jc_m, t_melt, eps_rate0, vp_chi, vp_m, vp_n, &
+      taylor_quinney
     name = ''
     do pass = 1, 2
       if (pass == 2) then
@@ -389,6 +395,23 @@ contains
         gruneisen = mat%gruneisen
         cv = mat%cv
         T0 = mat%T0
+        bulk_modulus = mat%bulk_modulus
+        poly_a = mat%poly_a
+        poly_b = mat%poly_b
+        strength_model = mat%strength_model
+        shear_modulus = mat%shear_modulus
+        yield0 = mat%yield0
+        hardening_modulus = mat%hardening_modulus
+        jc_b = mat%jc_b
+        jc_n = mat%jc_n
+        jc_c = mat%jc_c
+        jc_m = mat%jc_m
+        t_melt = mat%t_melt
+        eps_rate0 = mat%eps_rate0
+        vp_chi = mat%vp_chi
+        vp_m = mat%vp_m
+        vp_n = mat%vp_n
+        taylor_quinney = mat%taylor_quinney
       end if
       do k = 1, g%n
         if ((g%assign(k)%name == 'name') .neqv. (pass == 1)) cycle
@@ -408,6 +431,23 @@ contains
     mat%gruneisen = gruneisen
     mat%cv = cv
     mat%T0 = T0
+    mat%bulk_modulus = bulk_modulus
+    mat%poly_a = poly_a
+    mat%poly_b = poly_b
+    mat%strength_model = to_lower(strength_model)
+    mat%shear_modulus = shear_modulus
+    mat%yield0 = yield0
+    mat%hardening_modulus = hardening_modulus
+    mat%jc_b = jc_b
+    mat%jc_n = jc_n
+    mat%jc_c = jc_c
+    mat%jc_m = jc_m
+    mat%t_melt = t_melt
+    mat%eps_rate0 = eps_rate0
+    mat%vp_chi = vp_chi
+    mat%vp_m = vp_m
+    mat%vp_n = vp_n
+    mat%taylor_quinney = taylor_quinney
   end subroutine read_material
 
   subroutine read_body(base, g, this)

@@ -2,10 +2,13 @@
 !> resolved against the material library (built-in materials that the base material or a
 !> body uses are added to the configuration), block sizes left at 0 are chosen, body density
 !> and pressure default to those of the body's material, the output fields to a standard
-!> list; every value is checked against its range or its list of choices, and the first
-!> violation stops every rank with one line naming group, variable and a typical value. It
-!> does not read the deck (m_deck) and does not interpret the physics: what a material or a
-!> shape means is for eos/ and scene/.
+!> list; a material's strength_model defaults to 'none', its taylor_quinney (0.9) and
+!> eps_rate0 (1 /s) to their usual values where its model uses them; the &physics switches
+!> strength and thermal, when the deck leaves them out, are on exactly when a material in
+!> use needs them (manual/materials.md). Every value is checked against its range or its
+!> list of choices, and the first violation stops every rank with one line naming group,
+!> variable and a typical value. It does not read the deck (m_deck) and does not interpret
+!> the physics: what a material or a shape means is for eos/, strength/ and scene/.
 module m_deck_check
   use m_kinds, only: wp, name_len
   use m_config, only: config_t, material_t, is_set, max_materials, max_fields
@@ -22,9 +25,26 @@ module m_deck_check
   character(len=*), parameter :: schemes = 'eno1, eno2, eno3, weno5'
   character(len=*), parameter :: fluxes = 'llf, hllc'
   character(len=*), parameter :: probes = 'trilinear, least_squares, auto'
-  character(len=*), parameter :: eoses = 'ideal_gas, stiffened_gas, mie_gruneisen'
+  character(len=*), parameter :: eoses = &
+    'ideal_gas, stiffened_gas, mie_gruneisen, polynomial_mie_gruneisen'
+  character(len=*), parameter :: gas_eoses = 'ideal_gas, stiffened_gas'
+  character(len=*), parameter :: strength_models = 'none, elastic, perfectly_plastic, ' &
+    // 'linear_hardening, johnson_cook, viscoplastic_power_law'
+  !> the models with plastic flow, hence plastic work for Taylor-Quinney heating
+  character(len=*), parameter :: plastic_models = 'perfectly_plastic, linear_hardening, ' &
+    // 'johnson_cook, viscoplastic_power_law'
+  !> the values that mean something only with a strength_model
+  character(len=17), parameter :: strength_values(13) = [character(len=17) :: &
+    'shear_modulus', 'yield0', 'hardening_modulus', 'jc_b', 'jc_n', 'jc_c', 'jc_m', &
+    't_melt', 'eps_rate0', 'vp_chi', 'vp_m', 'vp_n', 'taylor_quinney']
+  real(wp), parameter :: default_taylor_quinney = 0.9_wp
+  real(wp), parameter :: default_eps_rate0 = 1.0_wp   !< 1 /s
   character(len=*), parameter :: shapes = 'box, sphere, cylinder, half_space'
-  character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach'
+  character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach, ' &
+    // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
+  !> the fields that only a deck with strength carries (deviatoric stress, plastic strain,
+  !> von Mises stress)
+  character(len=*), parameter :: strength_fields = 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
   character(len=4), parameter :: default_fields(7) = &
     [character(len=4) :: 'rho', 'u', 'v', 'w', 'p', 'e', 'T']
   integer, parameter :: min_block = 4   !< cells: the halo is 4 deep
@@ -43,6 +63,7 @@ contains
     call check_numerics(base, cfg)
     call check_output(base, cfg)
     call check_materials(base, cfg)
+    call check_physics(base, groups, n_groups, cfg)
     call check_bodies(base, cfg)
   end subroutine deck_check
 
@@ -238,11 +259,13 @@ contains
     end do
   end subroutine check_materials
 
+  !> One material: its eos and the values that eos needs, its strength model (defaults
+  !> filled in) and the values that model needs, and the range of every value given.
   subroutine check_material(base, m)
     character(len=*), intent(in) :: base
-    type(material_t), intent(in) :: m
-    character(len=9) :: needs(7)
-    character(len=:), allocatable :: in_m
+    type(material_t), intent(inout) :: m
+    character(len=17) :: needs(8)
+    character(len=:), allocatable :: in_m, model
     integer :: k, n_needs
     if (len_trim(m%name) == 0) call bad(base, 'material', 'name', 'missing required value')
     in_m = " in material '" // trim(m%name) // "'"
@@ -256,14 +279,18 @@ contains
     select case (m%eos)
     case ('ideal_gas')
       n_needs = 4
-      needs(1:n_needs) = [character(len=9) :: 'rho0', 'p0', 'gamma', 'cv']
+      needs(1:n_needs) = [character(len=17) :: 'rho0', 'p0', 'gamma', 'cv']
     case ('stiffened_gas')
       n_needs = 5
-      needs(1:n_needs) = [character(len=9) :: 'rho0', 'p0', 'gamma', 'p_inf', 'cv']
-    case default
+      needs(1:n_needs) = [character(len=17) :: 'rho0', 'p0', 'gamma', 'p_inf', 'cv']
+    case ('mie_gruneisen')
       n_needs = 7
-      needs(1:n_needs) = [character(len=9) :: 'rho0', 'p0', 'c0', 's', 'gruneisen', 'cv', &
+      needs(1:n_needs) = [character(len=17) :: 'rho0', 'p0', 'c0', 's', 'gruneisen', 'cv', &
         'T0']
+    case default
+      n_needs = 8
+      needs(1:n_needs) = [character(len=17) :: 'rho0', 'p0', 'bulk_modulus', 'poly_a', &
+        'poly_b', 'gruneisen', 'cv', 'T0']
     end select
     do k = 1, n_needs
       if (.not. is_set(material_value(m, needs(k)))) call bad(base, 'material', &
@@ -279,6 +306,73 @@ contains
     call at_least(m%T0, 'T0', .true., 0.0_wp)
     if (m%eos == 'ideal_gas') call at_least(m%p0, 'p0', .false., 0.0_wp)
     if (m%eos == 'stiffened_gas') call at_least(m%p0, 'p0', .true., -m%p_inf)
+    call at_least(m%bulk_modulus, 'bulk_modulus', .true., 0.0_wp)
+
+    ! strength values without a model would be ignored without a word: refuse them
+    if (len_trim(m%strength_model) == 0) then
+      do k = 1, size(strength_values)
+        if (is_set(material_value(m, strength_values(k)))) call bad(base, 'material', &
+          'strength_model', 'missing required value' // in_m // ' (it gives ' &
+          // trim(strength_values(k)) // "; set strength_model = 'none' to run without " &
+          // 'strength)')
+      end do
+      m%strength_model = 'none'
+    end if
+    call check_choice(base, 'material', 'strength_model', m%strength_model, strength_models)
+    model = trim(m%strength_model)
+    if (model /= 'none' .and. in_list(m%eos, gas_eoses)) call bad(base, 'material', &
+      'strength_model', "'" // model // "' needs the eos of a solid (mie_gruneisen or " &
+      // "polynomial_mie_gruneisen), not '" // trim(m%eos) // "'" // in_m)
+    if (in_list(model, plastic_models) .and. .not. is_set(m%taylor_quinney)) &
+      m%taylor_quinney = default_taylor_quinney
+    if (model == 'johnson_cook' .and. .not. is_set(m%eps_rate0)) m%eps_rate0 = default_eps_rate0
+    select case (model)
+    case ('none')
+      n_needs = 0
+    case ('elastic')
+      n_needs = 1
+      needs(1:n_needs) = [character(len=17) :: 'shear_modulus']
+    case ('perfectly_plastic')
+      n_needs = 2
+      needs(1:n_needs) = [character(len=17) :: 'shear_modulus', 'yield0']
+    case ('linear_hardening')
+      n_needs = 3
+      needs(1:n_needs) = [character(len=17) :: 'shear_modulus', 'yield0', &
+        'hardening_modulus']
+    case ('johnson_cook')
+      n_needs = 8
+      needs(1:n_needs) = [character(len=17) :: 'shear_modulus', 'yield0', 'jc_b', 'jc_n', &
+        'jc_c', 'jc_m', 't_melt', 'eps_rate0']
+    case default
+      n_needs = 5
+      needs(1:n_needs) = [character(len=17) :: 'shear_modulus', 'yield0', 'vp_chi', 'vp_m', &
+        'vp_n']
+    end select
+    do k = 1, n_needs
+      if (.not. is_set(material_value(m, needs(k)))) call bad(base, 'material', &
+        trim(needs(k)), "missing required value for strength_model '" // model // "'" // in_m)
+    end do
+    call at_least(m%shear_modulus, 'shear_modulus', .true., 0.0_wp)
+    call at_least(m%yield0, 'yield0', .false., 0.0_wp)
+    call at_least(m%hardening_modulus, 'hardening_modulus', .false., 0.0_wp)
+    call at_least(m%jc_b, 'jc_b', .false., 0.0_wp)
+    call at_least(m%jc_n, 'jc_n', .true., 0.0_wp)
+    call at_least(m%jc_c, 'jc_c', .false., 0.0_wp)
+    call at_least(m%jc_m, 'jc_m', .true., 0.0_wp)
+    if (is_set(m%T0)) then
+      if (is_set(m%t_melt) .and. .not. m%t_melt > m%T0) call bad(base, 'material', 't_melt', &
+        'must be > T0 = ' // real_text(m%T0) // in_m // ', got ' // real_text(m%t_melt))
+    else
+      call at_least(m%t_melt, 't_melt', .true., 0.0_wp)
+    end if
+    call at_least(m%eps_rate0, 'eps_rate0', .true., 0.0_wp)
+    call at_least(m%vp_chi, 'vp_chi', .true., 0.0_wp)
+    call at_least(m%vp_n, 'vp_n', .true., 0.0_wp)
+    if (is_set(m%taylor_quinney)) then
+      if (m%taylor_quinney < 0.0_wp .or. m%taylor_quinney > 1.0_wp) call bad(base, &
+        'material', 'taylor_quinney', 'must lie in [0, 1] (the share of plastic work ' &
+        // 'that heats)' // in_m // ', got ' // real_text(m%taylor_quinney))
+    end if
 
   contains
 
@@ -301,6 +395,71 @@ contains
 
   end subroutine check_material
 
+  !> The &physics switches strength and thermal. Left out, each is on exactly when a
+  !> material in use (the base material or a body's) needs it: strength when one has a
+  !> strength_model other than 'none'; thermal, with strength on, when one softens with
+  !> temperature (johnson_cook) or heats by plastic work (a plastic model with
+  !> taylor_quinney > 0). Set to .false., the effect is off even if a material has it; set to
+  !> .true., some material in use must need it. Stress and plastic-strain output fields need
+  !> strength on.
+  subroutine check_physics(base, groups, n_groups, cfg)
+    character(len=*), intent(in) :: base
+    type(deck_group_t), intent(in) :: groups(:)
+    integer, intent(in) :: n_groups
+    type(config_t), intent(inout) :: cfg
+    logical :: needs_strength, needs_thermal
+    integer :: k
+    needs_strength = .false.
+    needs_thermal = .false.
+    do k = 1, cfg%n_materials
+      associate(m => cfg%materials(k))
+        if (.not. material_used(cfg, m%name)) cycle
+        if (m%strength_model /= 'none') needs_strength = .true.
+        if (m%strength_model == 'johnson_cook') needs_thermal = .true.
+        if (in_list(m%strength_model, plastic_models)) then
+          if (m%taylor_quinney > 0.0_wp) needs_thermal = .true.
+        end if
+      end associate
+    end do
+    if (.not. given(groups, n_groups, 'physics', 'strength')) then
+      cfg%strength = needs_strength
+    else if (cfg%strength .and. .not. needs_strength) then
+      call bad(base, 'physics', 'strength', ".true. but no material in use has a " &
+        // "strength_model other than 'none' (leave strength out: it is on exactly when a " &
+        // 'material needs it)')
+    end if
+    needs_thermal = needs_thermal .and. cfg%strength
+    if (.not. given(groups, n_groups, 'physics', 'thermal')) then
+      cfg%thermal = needs_thermal
+    else if (cfg%thermal .and. .not. needs_thermal) then
+      if (.not. cfg%strength) then
+        call bad(base, 'physics', 'thermal', '.true. but strength is off, so there is ' &
+          // 'neither plastic heating nor thermal softening (leave thermal out)')
+      else
+        call bad(base, 'physics', 'thermal', '.true. but no material in use softens with ' &
+          // 'temperature (johnson_cook) or heats by plastic work (taylor_quinney > 0) ' &
+          // '(leave thermal out: it is on exactly when a material needs it)')
+      end if
+    end if
+    if (cfg%strength) return
+    do k = 1, cfg%n_fields
+      if (in_list(cfg%fields(k), strength_fields)) call bad(base, 'output', 'fields', &
+        "field '" // trim(cfg%fields(k)) // "' needs strength, which is off (no material " &
+        // 'in use has a strength_model, or &physics strength = .false.)')
+    end do
+  end subroutine check_physics
+
+  !> Whether the base material or a body uses the material called name.
+  logical function material_used(cfg, name)
+    type(config_t), intent(in) :: cfg
+    character(len=*), intent(in) :: name
+    integer :: i
+    material_used = (cfg%base_material == name)
+    do i = 1, cfg%n_bodies
+      if (cfg%bodies(i)%material == name) material_used = .true.
+    end do
+  end function material_used
+
   !> A material that the deck uses by name: defined, built in (then added), or one of the
   !> special names allowed at that place.
   subroutine use_material(base, gname, vname, name, special, cfg)
@@ -317,6 +476,8 @@ contains
         // int_text(max_materials) // ' materials with the built-in ones used (max_materials' &
         // ' of m_config)', '')
       cfg%n_materials = cfg%n_materials + 1
+      ! the library's own entries pass the same checks and get the same defaults
+      call check_material(base, mat)
       cfg%materials(cfg%n_materials) = mat
     else
       call library_names(built_in)
@@ -407,6 +568,38 @@ contains
       x = m%gruneisen
     case ('cv')
       x = m%cv
+    case ('bulk_modulus')
+      x = m%bulk_modulus
+    case ('poly_a')
+      x = m%poly_a
+    case ('poly_b')
+      x = m%poly_b
+    case ('shear_modulus')
+      x = m%shear_modulus
+    case ('yield0')
+      x = m%yield0
+    case ('hardening_modulus')
+      x = m%hardening_modulus
+    case ('jc_b')
+      x = m%jc_b
+    case ('jc_n')
+      x = m%jc_n
+    case ('jc_c')
+      x = m%jc_c
+    case ('jc_m')
+      x = m%jc_m
+    case ('t_melt')
+      x = m%t_melt
+    case ('eps_rate0')
+      x = m%eps_rate0
+    case ('vp_chi')
+      x = m%vp_chi
+    case ('vp_m')
+      x = m%vp_m
+    case ('vp_n')
+      x = m%vp_n
+    case ('taylor_quinney')
+      x = m%taylor_quinney
     case default
       x = m%T0
     end select

@@ -52,7 +52,7 @@ module m_deck_schema
     var_info_t('thermal', 'l', 1, 0, '.true.'), &
     var_info_t('heat_conduction', 'l', 1, 0, '.false.'), &
     var_info_t('reaction', 'l', 1, 0, '.false.')]
-  type(var_info_t), parameter :: material_vars(11) = [ &
+  type(var_info_t), parameter :: material_vars(28) = [ &
     var_info_t('name', 'c', 1, name_len, "'water'"), &
     var_info_t('eos', 'c', 1, name_len, "'stiffened_gas'"), &
     var_info_t('rho0', 'r', 1, 0, '1000.0'), &
@@ -63,7 +63,24 @@ module m_deck_schema
     var_info_t('s', 'r', 1, 0, '1.49'), &
     var_info_t('gruneisen', 'r', 1, 0, '2.0'), &
     var_info_t('cv', 'r', 1, 0, '717.5'), &
-    var_info_t('T0', 'r', 1, 0, '293.15')]
+    var_info_t('T0', 'r', 1, 0, '293.15'), &
+    var_info_t('bulk_modulus', 'r', 1, 0, '12.5e9'), &
+    var_info_t('poly_a', 'r', 1, 0, '22.0e9'), &
+    var_info_t('poly_b', 'r', 1, 0, '15.0e9'), &
+    var_info_t('strength_model', 'c', 1, name_len, "'johnson_cook'"), &
+    var_info_t('shear_modulus', 'r', 1, 0, '43.33e9'), &
+    var_info_t('yield0', 'r', 1, 0, '0.4e9'), &
+    var_info_t('hardening_modulus', 'r', 1, 0, '0.1e9'), &
+    var_info_t('jc_b', 'r', 1, 0, '0.177e9'), &
+    var_info_t('jc_n', 'r', 1, 0, '1.0'), &
+    var_info_t('jc_c', 'r', 1, 0, '0.025'), &
+    var_info_t('jc_m', 'r', 1, 0, '1.09'), &
+    var_info_t('t_melt', 'r', 1, 0, '1358.0'), &
+    var_info_t('eps_rate0', 'r', 1, 0, '1.0'), &
+    var_info_t('vp_chi', 'r', 1, 0, '1.08'), &
+    var_info_t('vp_m', 'r', 1, 0, '-0.79'), &
+    var_info_t('vp_n', 'r', 1, 0, '1.58'), &
+    var_info_t('taylor_quinney', 'r', 1, 0, '0.9')]
   type(var_info_t), parameter :: body_vars(15) = [ &
     var_info_t('name', 'c', 1, name_len, "'projectile'"), &
     var_info_t('material', 'c', 1, name_len, "'copper'"), &

@@ -14,7 +14,7 @@ module m_deck_values
   !> What a deck variable is: kind 'c' (string), 'i', 'r' or 'l'; size 1 for a scalar;
   !> clen the length of a string variable; typical an example value for error messages.
   type :: var_info_t
-    character(len=16) :: name = ''
+    character(len=24) :: name = ''
     character(len=1) :: kind = 'r'
     integer :: size = 1
     integer :: clen = 0

@@ -154,6 +154,23 @@ contains
           call put_real(u, 'gruneisen', m%gruneisen)
           call put_real(u, 'cv', m%cv)
           call put_real(u, 'T0', m%T0)
+          call put_real(u, 'bulk_modulus', m%bulk_modulus)
+          call put_real(u, 'poly_a', m%poly_a)
+          call put_real(u, 'poly_b', m%poly_b)
+          call put(u, 'strength_model', quoted(m%strength_model))
+          call put_real(u, 'shear_modulus', m%shear_modulus)
+          call put_real(u, 'yield0', m%yield0)
+          call put_real(u, 'hardening_modulus', m%hardening_modulus)
+          call put_real(u, 'jc_b', m%jc_b)
+          call put_real(u, 'jc_n', m%jc_n)
+          call put_real(u, 'jc_c', m%jc_c)
+          call put_real(u, 'jc_m', m%jc_m)
+          call put_real(u, 't_melt', m%t_melt)
+          call put_real(u, 'eps_rate0', m%eps_rate0)
+          call put_real(u, 'vp_chi', m%vp_chi)
+          call put_real(u, 'vp_m', m%vp_m)
+          call put_real(u, 'vp_n', m%vp_n)
+          call put_real(u, 'taylor_quinney', m%taylor_quinney)
           write(u, '(a)') '/'
         end associate
       end do

@@ -12,8 +12,11 @@ module m_euler
   use m_kinds, only: wp
   use m_eos, only: eos_t, eos_pressure, eos_energy, eos_sound_speed2
   use m_reconstruct, only: reconstruct_faces
-  use m_flux, only: face_flux
-  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en
+  use m_flux, only: face_flux, flux_llf_solid
+  use m_yield, only: strength_t
+  use m_plasticity, only: jaumann_source
+  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid, i_sxx, i_syy, i_szz, &
+    i_sxy, i_syz, i_sxz, i_epsp
   use m_layout, only: layout_t
   implicit none
   private
@@ -23,7 +26,8 @@ module m_euler
   !> Scratch space for one block and one bundle of pencils, allocated once per run. The
   !> bundle buffers are flat and take the shape (nb, cells along the pencil, 5) of each use.
   type :: euler_work_t
-    real(wp), allocatable :: prim(:, :, :, :)      !< (padded block, 5): rho, u, v, w, p
+    integer :: nv = 5                              !< variables: 5 (gas) or 12 (with strength)
+    real(wp), allocatable :: prim(:, :, :, :)      !< (padded block, nv): rho, u, v, w, p, S, eps_p
     real(wp), allocatable :: pw(:)                 !< primitives of a bundle (nb, 1-g:n+g, 5)
     real(wp), allocatable :: wl(:), wr(:), f(:)    !< face states and fluxes (nb, 0:n, 5)
     real(wp), allocatable :: el(:), er(:), cl(:), cr(:)   !< (nb, 0:n)
@@ -32,8 +36,9 @@ module m_euler
 
 contains
 
-  subroutine euler_work_init(lay, work)
+  subroutine euler_work_init(lay, nv, work)
     type(layout_t), intent(in) :: lay
+    integer, intent(in) :: nv
     type(euler_work_t), intent(out) :: work
     integer :: lo(3), hi(3), nmax, gmax, nbmax
     lo = 1 - lay%ng
@@ -41,10 +46,11 @@ contains
     nmax = maxval(lay%bsize)
     gmax = maxval(lay%ng)
     nbmax = maxval(lay%bsize)
-    allocate(work%prim(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), 5))
-    allocate(work%pw(nbmax * (nmax + 2 * gmax) * 5))
-    allocate(work%wl(nbmax * (nmax + 1) * 5), work%wr(nbmax * (nmax + 1) * 5))
-    allocate(work%f(nbmax * (nmax + 1) * 5))
+    work%nv = nv
+    allocate(work%prim(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nv))
+    allocate(work%pw(nbmax * (nmax + 2 * gmax) * nv))
+    allocate(work%wl(nbmax * (nmax + 1) * nv), work%wr(nbmax * (nmax + 1) * nv))
+    allocate(work%f(nbmax * (nmax + 1) * nv))
     allocate(work%el(nbmax * (nmax + 1)), work%er(nbmax * (nmax + 1)))
     allocate(work%cl(nbmax * (nmax + 1)), work%cr(nbmax * (nmax + 1)))
     allocate(work%row(lo(1):hi(1)))
@@ -71,10 +77,11 @@ contains
 
   !> rhs = L(q) over the interior of one block; nfallback counts faces that fell back to
   !> first order.
-  subroutine euler_rhs(lay, eos, scheme, flux_kind, q, rhs, offset, wall, vwall, work, &
+  subroutine euler_rhs(lay, eos, st, scheme, flux_kind, q, rhs, offset, wall, vwall, work, &
       nfallback)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
+    type(strength_t), intent(in) :: st    !< strength (used when q carries the stress)
     integer, intent(in) :: scheme, flux_kind, offset(3)
     logical, intent(in) :: wall(2, 3)      !< reflecting sides (m_boundary)
     real(wp), intent(in) :: vwall(2, 3)    !< their normal velocities
@@ -82,16 +89,20 @@ contains
     real(wp), intent(out) :: rhs(:, :, :, :)
     type(euler_work_t), intent(inout) :: work
     integer, intent(inout) :: nfallback
-    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(5), nr, nb
+    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m
     real(wp) :: rdx, r
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
     nr = hi(1) - lo(1) + 1
+    nv = size(q, 4)
     do k = lo(3), hi(3)
       do j = lo(2), hi(2)
         call primitive_row(eos, nr, q(:, j, k, i_rho), q(:, j, k, i_mx), q(:, j, k, i_my), &
           q(:, j, k, i_mz), q(:, j, k, i_en), work%prim(:, j, k, 1), work%prim(:, j, k, 2), &
           work%prim(:, j, k, 3), work%prim(:, j, k, 4), work%prim(:, j, k, 5), work%row)
+        do m = n_euler + 1, nv
+          work%prim(:, j, k, m) = q(:, j, k, m) / q(:, j, k, i_rho)
+        end do
       end do
     end do
     rhs = 0.0_wp
@@ -103,30 +114,33 @@ contains
       ! contiguous: x pencils bundled over j, y and z pencils over i
       select case (d)
       case (1)
-        perm = [1, 2, 3, 4, 5]
+        perm = [1, 2, 3, 4, 5, i_sxx, i_sxy, i_sxz, i_syy, i_szz, i_syz, i_epsp]
         nb = lay%bsize(2)
         do k = 1, lay%bsize(3)
           call bundle_x(k, nb, n, g, work%pw)
-          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, wall(:, d), vwall(:, d), &
-            work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, nfallback)
+          call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
+            vwall(:, d), work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, &
+            nfallback)
           call scatter_x(k, nb, n, work%f)
         end do
       case (2)
-        perm = [1, 3, 2, 4, 5]
+        perm = [1, 3, 2, 4, 5, i_syy, i_sxy, i_syz, i_sxx, i_szz, i_sxz, i_epsp]
         nb = lay%bsize(1)
         do k = 1, lay%bsize(3)
           call bundle_y(k, nb, n, g, work%pw)
-          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, wall(:, d), vwall(:, d), &
-            work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, nfallback)
+          call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
+            vwall(:, d), work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, &
+            nfallback)
           call scatter_y(k, nb, n, work%f)
         end do
       case default
-        perm = [1, 4, 2, 3, 5]
+        perm = [1, 4, 2, 3, 5, i_szz, i_sxz, i_syz, i_sxx, i_syy, i_sxy, i_epsp]
         nb = lay%bsize(1)
         do j = 1, lay%bsize(2)
           call bundle_z(j, nb, n, g, work%pw)
-          call faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, wall(:, d), vwall(:, d), &
-            work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, nfallback)
+          call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
+            vwall(:, d), work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, &
+            nfallback)
           call scatter_z(j, nb, n, work%f)
         end do
       end select
@@ -138,18 +152,23 @@ contains
           do i = 1, lay%bsize(1)
             r = lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1)
             rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + work%prim(i, j, k, 5) / r
+            ! with strength the hoop stress is p - S_theta theta (S_zz holds the hoop one)
+            if (nv > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
+              - work%prim(i, j, k, i_szz) / r
           end do
         end do
       end do
     end if
 
+    if (nv > n_euler) call stress_rates(lay, st, offset, work%prim, rhs)
+
   contains
 
     subroutine bundle_x(k0, nbb, nn, gg, pw)
       integer, intent(in) :: k0, nbb, nn, gg
-      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, 5)
+      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, nv)
       integer :: mm, ii, jj
-      do mm = 1, 5
+      do mm = 1, nv
         do ii = 1 - gg, nn + gg
           do jj = 1, nbb
             pw(jj, ii, mm) = work%prim(ii, jj, k0, perm(mm))
@@ -163,7 +182,7 @@ contains
     !> conserves mass, axial momentum and energy in the volume 2 pi r dr dz.
     subroutine scatter_x(k0, nbb, nn, f)
       integer, intent(in) :: k0, nbb, nn
-      real(wp), intent(in) :: f(nbb, 0:nn, 5)
+      real(wp), intent(in) :: f(nbb, 0:nn, nv)
       integer :: mm, ii, jj
       real(wp) :: wlo(nn), whi(nn), rc, rf
       do ii = 1, nn
@@ -176,7 +195,7 @@ contains
           whi(ii) = rdx * (rf + lay%dx(1)) / rc
         end if
       end do
-      do mm = 1, 5
+      do mm = 1, nv
         do jj = 1, nbb
           do ii = 1, nn
             rhs(ii, jj, k0, perm(mm)) = rhs(ii, jj, k0, perm(mm)) &
@@ -188,9 +207,9 @@ contains
 
     subroutine bundle_y(k0, nbb, nn, gg, pw)
       integer, intent(in) :: k0, nbb, nn, gg
-      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, 5)
+      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, nv)
       integer :: mm, jj
-      do mm = 1, 5
+      do mm = 1, nv
         do jj = 1 - gg, nn + gg
           pw(:, jj, mm) = work%prim(1:nbb, jj, k0, perm(mm))
         end do
@@ -199,9 +218,9 @@ contains
 
     subroutine scatter_y(k0, nbb, nn, f)
       integer, intent(in) :: k0, nbb, nn
-      real(wp), intent(in) :: f(nbb, 0:nn, 5)
+      real(wp), intent(in) :: f(nbb, 0:nn, nv)
       integer :: mm, jj
-      do mm = 1, 5
+      do mm = 1, nv
         do jj = 1, nn
           rhs(1:nbb, jj, k0, perm(mm)) = rhs(1:nbb, jj, k0, perm(mm)) &
             - rdx * (f(:, jj, mm) - f(:, jj - 1, mm))
@@ -211,9 +230,9 @@ contains
 
     subroutine bundle_z(j0, nbb, nn, gg, pw)
       integer, intent(in) :: j0, nbb, nn, gg
-      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, 5)
+      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, nv)
       integer :: mm, kk
-      do mm = 1, 5
+      do mm = 1, nv
         do kk = 1 - gg, nn + gg
           pw(:, kk, mm) = work%prim(1:nbb, j0, kk, perm(mm))
         end do
@@ -222,9 +241,9 @@ contains
 
     subroutine scatter_z(j0, nbb, nn, f)
       integer, intent(in) :: j0, nbb, nn
-      real(wp), intent(in) :: f(nbb, 0:nn, 5)
+      real(wp), intent(in) :: f(nbb, 0:nn, nv)
       integer :: mm, kk
-      do mm = 1, 5
+      do mm = 1, nv
         do kk = 1, nn
           rhs(1:nbb, j0, kk, perm(mm)) = rhs(1:nbb, j0, kk, perm(mm)) &
             - rdx * (f(:, kk, mm) - f(:, kk - 1, mm))
@@ -237,28 +256,32 @@ contains
   !> Face states and fluxes of a bundle of nb pencils of n cells: reconstruct, test
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
-  subroutine faces_and_fluxes(eos, scheme, flux_kind, nb, n, g, wall, vwall, pw, wl, wr, el, &
-      er, cl, cr, f, nfallback)
+  subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, wall, vwall, pw, &
+      wl, wr, el, er, cl, cr, f, nfallback)
     type(eos_t), intent(in) :: eos
-    integer, intent(in) :: scheme, flux_kind, nb, n, g
+    real(wp), intent(in) :: shear
+    integer, intent(in) :: scheme, flux_kind, nb, n, g, nv
     logical, intent(in) :: wall(2)
     real(wp), intent(in) :: vwall(2)
-    real(wp), intent(in) :: pw(nb, 1-g:n+g, 5)
-    real(wp), intent(out) :: wl(nb, 0:n, 5), wr(nb, 0:n, 5), el(nb, 0:n), er(nb, 0:n)
-    real(wp), intent(out) :: cl(nb, 0:n), cr(nb, 0:n), f(nb, 0:n, 5)
+    real(wp), intent(in) :: pw(nb, 1-g:n+g, nv)
+    real(wp), intent(out) :: wl(nb, 0:n, nv), wr(nb, 0:n, nv), el(nb, 0:n), er(nb, 0:n)
+    real(wp), intent(out) :: cl(nb, 0:n), cr(nb, 0:n), f(nb, 0:n, nv)
     integer, intent(inout) :: nfallback
     integer :: i, b, nf
     nf = nb * (n + 1)
-    call reconstruct_faces(scheme, nb, n, g, 5, pw, wl, wr)
+    call reconstruct_faces(scheme, nb, n, g, nv, pw, wl, wr)
     ! a reflecting side: the outer face state is the mirror of the inner one (normal
-    ! velocity 2 V - u), so the mass and energy fluxes are exactly those of the wall
+    ! velocity 2 V - u, shear tractions reversed), so the mass and energy fluxes are
+    ! exactly those of the wall
     if (wall(1)) then
       wl(:, 0, :) = wr(:, 0, :)
       wl(:, 0, 2) = 2.0_wp * vwall(1) - wr(:, 0, 2)
+      if (nv > n_euler) wl(:, 0, 7:8) = -wr(:, 0, 7:8)
     end if
     if (wall(2)) then
       wr(:, n, :) = wl(:, n, :)
       wr(:, n, 2) = 2.0_wp * vwall(2) - wl(:, n, 2)
+      if (nv > n_euler) wr(:, n, 7:8) = -wl(:, n, 7:8)
     end if
     call eos_sound_speed2(eos, nf, wl(:, :, 1), wl(:, :, 5), cl)
     call eos_sound_speed2(eos, nf, wr(:, :, 1), wr(:, :, 5), cr)
@@ -276,18 +299,71 @@ contains
         end do
       end do
     end if
+    if (nv > n_euler) then
+      ! longitudinal wave speed: bulk plus 4 G / (3 rho)
+      cl = cl + (4.0_wp / 3.0_wp) * shear / wl(:, :, 1)
+      cr = cr + (4.0_wp / 3.0_wp) * shear / wr(:, :, 1)
+    end if
     cl = sqrt(max(cl, 0.0_wp))
     cr = sqrt(max(cr, 0.0_wp))
     call eos_energy(eos, nf, wl(:, :, 1), wl(:, :, 5), el)
     call eos_energy(eos, nf, wr(:, :, 1), wr(:, :, 5), er)
-    call face_flux(flux_kind, nf, wl, wr, el, er, cl, cr, f)
+    if (nv > n_euler) then
+      call flux_llf_solid(nf, nv, wl, wr, el, er, cl, cr, f)
+    else
+      call face_flux(flux_kind, nf, wl, wr, el, er, cl, cr, f)
+    end if
   end subroutine faces_and_fluxes
+
+  !> The non-conservative part of the stress equation (manual/theory.md eq. 5.1):
+  !> d(rho S)/dt += rho (2 G D' + W S - S W) (m_plasticity's jaumann_source), with the velocity
+  !> gradient L = grad u by central differences; in axisymmetric geometry L_theta theta = u_r / r.
+  subroutine stress_rates(lay, st, offset, prim, rhs)
+    type(layout_t), intent(in) :: lay
+    type(strength_t), intent(in) :: st
+    integer, intent(in) :: offset(3)
+    real(wp), intent(in) :: prim(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    real(wp), intent(inout) :: rhs(:, :, :, :)
+    real(wp) :: l(lay%bsize(1), 3, 3), sdev(lay%bsize(1), 6), src(lay%bsize(1), 6), h(3)
+    integer :: i, j, k, a, b, c, dir(3), n
+    n = lay%bsize(1)
+    h = 0.0_wp
+    h(1:lay%ndim) = 0.5_wp / lay%dx(1:lay%ndim)
+    do k = 1, lay%bsize(3)
+      do j = 1, lay%bsize(2)
+        l = 0.0_wp
+        do b = 1, lay%ndim
+          dir = 0
+          dir(b) = 1
+          do a = 1, 3
+            l(:, a, b) = h(b) * (prim(1+dir(1):n+dir(1), j + dir(2), k + dir(3), 1 + a) &
+              - prim(1-dir(1):n-dir(1), j - dir(2), k - dir(3), 1 + a))
+          end do
+        end do
+        if (lay%axisymmetric) then
+          do i = 1, n
+            l(i, 3, 3) = prim(i, j, k, 2) &
+              / (lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1))
+          end do
+        end if
+        do c = 1, 6
+          sdev(:, c) = prim(1:n, j, k, i_sxx + c - 1)
+        end do
+        call jaumann_source(st, n, sdev, l, src)
+        do c = 1, 6
+          rhs(:, j, k, i_sxx + c - 1) = rhs(:, j, k, i_sxx + c - 1) + prim(1:n, j, k, i_rho) &
+            * src(:, c)
+        end do
+      end do
+    end do
+  end subroutine stress_rates
 
   !> Largest sum over directions of (|u_d| + c) / dx_d over the interior: dt = cfl / rate.
   !> Also reports whether every interior cell is admissible (rho > 0, c^2 > 0, finite).
-  subroutine euler_max_rate(lay, eos, q, rate, admissible)
+  subroutine euler_max_rate(lay, eos, shear, q, rate, admissible)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
+    real(wp), intent(in) :: shear
     real(wp), intent(in) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(out) :: rate
     logical, intent(out) :: admissible
@@ -309,6 +385,7 @@ contains
         call primitive_row(eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
           q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
         call eos_sound_speed2(eos, n, rho, p, c2)
+        c2 = c2 + (4.0_wp / 3.0_wp) * shear / rho
         do i = 1, n
           if (.not. (c2(i) > 0.0_wp .and. c2(i) < huge(1.0_wp))) then
             admissible = .false.

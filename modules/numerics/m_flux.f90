@@ -8,6 +8,7 @@ module m_flux
   implicit none
   private
   public :: flux_llf, flux_hllc, flux_from_name, flux_kind_llf, flux_kind_hllc, face_flux
+  public :: flux_llf_solid
 
   integer, parameter :: flux_kind_llf = 1, flux_kind_hllc = 2
 
@@ -111,5 +112,42 @@ contains
     f(4) = f(1) * ut2
     f(5) = (en + p) * un
   end subroutine euler_flux
+
+  !> Local Lax-Friedrichs flux of the elastic-plastic equations (manual/theory.md eq. 5.1) in
+  !> the pencil frame: w = (rho, u_n, u_t1, u_t2, p, S_nn, S_nt1, S_nt2, three more stress
+  !> components, eps_p). The stress enters the momentum and energy fluxes as the traction
+  !> -(S_nn, S_nt1, S_nt2); rho S and rho eps_p are advected. c is the longitudinal speed
+  !> sqrt(c_bulk^2 + 4 G / (3 rho)), supplied by the caller.
+  subroutine flux_llf_solid(nf, nv, wl, wr, el, er, cl, cr, f)
+    integer, intent(in) :: nf, nv
+    real(wp), intent(in) :: wl(nf, nv), wr(nf, nv), el(nf), er(nf), cl(nf), cr(nf)
+    real(wp), intent(out) :: f(nf, nv)
+    real(wp) :: a, ml, mr, enl, enr
+    integer :: i, m
+    do i = 1, nf
+      a = max(abs(wl(i, 2)) + cl(i), abs(wr(i, 2)) + cr(i))
+      ml = wl(i, 1) * wl(i, 2)
+      mr = wr(i, 1) * wr(i, 2)
+      enl = wl(i, 1) * (el(i) + 0.5_wp * (wl(i, 2)**2 + wl(i, 3)**2 + wl(i, 4)**2))
+      enr = wr(i, 1) * (er(i) + 0.5_wp * (wr(i, 2)**2 + wr(i, 3)**2 + wr(i, 4)**2))
+      f(i, 1) = 0.5_wp * (ml + mr - a * (wr(i, 1) - wl(i, 1)))
+      f(i, 2) = 0.5_wp * (ml * wl(i, 2) + wl(i, 5) - wl(i, 6) + mr * wr(i, 2) + wr(i, 5) &
+        - wr(i, 6) - a * (wr(i, 1) * wr(i, 2) - wl(i, 1) * wl(i, 2)))
+      f(i, 3) = 0.5_wp * (ml * wl(i, 3) - wl(i, 7) + mr * wr(i, 3) - wr(i, 7) &
+        - a * (wr(i, 1) * wr(i, 3) - wl(i, 1) * wl(i, 3)))
+      f(i, 4) = 0.5_wp * (ml * wl(i, 4) - wl(i, 8) + mr * wr(i, 4) - wr(i, 8) &
+        - a * (wr(i, 1) * wr(i, 4) - wl(i, 1) * wl(i, 4)))
+      f(i, 5) = 0.5_wp * ((enl + wl(i, 5) - wl(i, 6)) * wl(i, 2) - wl(i, 7) * wl(i, 3) &
+        - wl(i, 8) * wl(i, 4) + (enr + wr(i, 5) - wr(i, 6)) * wr(i, 2) &
+        - wr(i, 7) * wr(i, 3) - wr(i, 8) * wr(i, 4) - a * (enr - enl))
+    end do
+    do m = 6, nv
+      do i = 1, nf
+        f(i, m) = 0.5_wp * (wl(i, 1) * wl(i, m) * wl(i, 2) + wr(i, 1) * wr(i, m) * wr(i, 2) &
+          - max(abs(wl(i, 2)) + cl(i), abs(wr(i, 2)) + cr(i)) &
+          * (wr(i, 1) * wr(i, m) - wl(i, 1) * wl(i, m)))
+      end do
+    end do
+  end subroutine flux_llf_solid
 
 end module m_flux

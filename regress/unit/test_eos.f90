@@ -3,11 +3,11 @@
 !> Mie-Gruneisen pressure on its Hugoniot equal to rho0 Us up.
 program test_eos
   use m_kinds, only: wp
-  use m_eos, only: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, &
+  use m_eos, only: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial, &
     eos_pressure, eos_energy, eos_sound_speed2
   use m_comm, only: comm_init, comm_exit
   implicit none
-  type(eos_t) :: air, water, copper
+  type(eos_t) :: air, water, copper, hmx_poly
   integer :: nfail
   call comm_init()
   nfail = 0
@@ -19,6 +19,11 @@ program test_eos
   call check_eos('water', water, [1000.0_wp, 1100.0_wp, 990.0_wp], [1.0e5_wp, 1.0e9_wp, 0.0_wp])
   call check_eos('copper', copper, [9000.0_wp, 10000.0_wp, 8500.0_wp], &
     [0.0_wp, 3.0e10_wp, -1.0e9_wp])
+  ! section C polynomial HMX: K 12.5 GPa, A 22 GPa, B 15 GPa, gamma 1.03, rho0 1900
+  hmx_poly = eos_t(kind=eos_polynomial, rho0=1900.0_wp, gruneisen=1.03_wp, cv=2500.0_wp, &
+    T0=298.0_wp, bulk=12.5e9_wp, poly_a=22.0e9_wp, poly_b=15.0e9_wp)
+  call check_eos('hmx polynomial', hmx_poly, [2000.0_wp, 2400.0_wp, 1850.0_wp], &
+    [1.0e9_wp, 2.0e10_wp, -1.0e8_wp])
   call check_hugoniot()
   if (nfail == 0) then
     write(6, '(a)') 'PASS test_eos'
