@@ -6,7 +6,7 @@ module m_output
   use m_simulation, only: sim_t
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, i_sxx, i_syy, i_szz, i_sxy, i_syz, &
     i_sxz, i_epsp
-  use m_euler, only: primitive_row
+  use m_euler, only: primitive_row, solid_temperature
   use m_eos, only: eos_temperature, eos_sound_speed2
   use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
     h5_read_attr, h5_write_field, h5_read_field, h5_write_text
@@ -18,9 +18,10 @@ module m_output
   public :: output_plot, output_checkpoint, output_restart, history_columns, history_values
   public :: step_file_name
 
-  character(len=name_len), parameter :: state_names(12) = [character(len=name_len) :: &
+  character(len=name_len), parameter :: state_names(13) = [character(len=name_len) :: &
     '/state/q1', '/state/q2', '/state/q3', '/state/q4', '/state/q5', '/state/q6', &
-    '/state/q7', '/state/q8', '/state/q9', '/state/q10', '/state/q11', '/state/q12']
+    '/state/q7', '/state/q8', '/state/q9', '/state/q10', '/state/q11', '/state/q12', &
+    '/state/q13']
 
 contains
 
@@ -88,7 +89,11 @@ contains
             case ('e')
               aux = e
             case ('T')
-              call eos_temperature(sim%eos, n, rho, e, aux)
+              if (sim%has_strength) then
+                call solid_temperature(sim%eos, sim%st, n, rho, e, q(1:n, j, k, :), aux)
+              else
+                call eos_temperature(sim%eos, n, rho, e, aux)
+              end if
             case ('c')
               call eos_sound_speed2(sim%eos, n, rho, p, aux)
               aux = sqrt(max(aux, 0.0_wp))
@@ -236,7 +241,11 @@ contains
           do j = 1, sim%lay%bsize(2)
             call primitive_row(sim%eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
               q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, vv, w, p, e)
-            call eos_temperature(sim%eos, n, rho, e, temp)
+            if (sim%has_strength) then
+              call solid_temperature(sim%eos, sim%st, n, rho, e, q(1:n, j, k, :), temp)
+            else
+              call eos_temperature(sim%eos, n, rho, e, temp)
+            end if
             tot(1) = tot(1) + sum(dv * rho)
             tot(2) = tot(2) + sum(dv * q(1:n, j, k, i_mx))
             tot(3) = tot(3) + sum(dv * q(1:n, j, k, i_my))

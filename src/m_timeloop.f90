@@ -6,12 +6,7 @@ module m_timeloop
   use m_simulation, only: sim_t
   use m_halo, only: halo_exchange
   use m_boundary, only: boundary_apply, boundary_walls
-  use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update, primitive_row
-  use m_eos, only: eos_t, eos_temperature
-  use m_layout, only: layout_t
-  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, i_sxx, i_epsp
-  use m_yield, only: strength_t
-  use m_plasticity, only: radial_return
+  use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update, plastic_correction
   use m_output, only: output_plot, output_checkpoint, history_columns, history_values, &
     step_file_name
   use m_history, only: history_t, history_open, history_write, history_close
@@ -154,36 +149,5 @@ contains
     sim%fallback_faces = sim%fallback_faces + nfall
     sim%fallback_step = comm_sum(nfall)
   end subroutine advance
-
-  !> Radial return after a stage (manual/theory.md section 5): the stage's elastic predictor
-  !> is brought back to the yield surface cell by cell. Total energy is untouched: the
-  !> elastic energy the return removes stays in e as heat.
-  subroutine plastic_correction(lay, eos, st, dt, q)
-    type(layout_t), intent(in) :: lay
-    type(eos_t), intent(in) :: eos
-    type(strength_t), intent(in) :: st
-    real(wp), intent(in) :: dt
-    real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
-    real(wp), dimension(lay%bsize(1)) :: rho, u, v, w, p, e, temp, epsp, dwp
-    real(wp) :: sdev(lay%bsize(1), 6)
-    integer :: j, k, m, n
-    n = lay%bsize(1)
-    do k = 1, lay%bsize(3)
-      do j = 1, lay%bsize(2)
-        call primitive_row(eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
-          q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
-        call eos_temperature(eos, n, rho, e, temp)
-        do m = 1, 6
-          sdev(:, m) = q(1:n, j, k, i_sxx + m - 1) / rho
-        end do
-        epsp = q(1:n, j, k, i_epsp) / rho
-        call radial_return(st, n, sdev, epsp, temp, dt, dwp)
-        do m = 1, 6
-          q(1:n, j, k, i_sxx + m - 1) = rho * sdev(:, m)
-        end do
-        q(1:n, j, k, i_epsp) = rho * epsp
-      end do
-    end do
-  end subroutine plastic_correction
 
 end module m_timeloop

@@ -1,12 +1,14 @@
 !> Layout of the conserved state vector U (DESIGN section 1, manual/theory.md eq. 1 and 5.1).
 !> A gas deck carries the five Euler variables; when some material has strength the six
-!> components of rho S (deviatoric stress, symmetric: xx, yy, zz, xy, yz, xz) and rho eps_p
-!> (effective plastic strain) follow, and only then.
+!> components of rho S (deviatoric stress, symmetric: xx, yy, zz, xy, yz, xz), rho eps_p
+!> (effective plastic strain) and rho w_c (the part 1 - beta of the plastic work that is
+!> stored in the lattice rather than turned into heat, beta = Taylor-Quinney) follow, and only
+!> then.
 module m_state
   implicit none
   private
   public :: i_rho, i_mx, i_my, i_mz, i_en, n_euler
-  public :: i_sxx, i_syy, i_szz, i_sxy, i_syz, i_sxz, i_epsp, n_solid, stress_index
+  public :: i_sxx, i_syy, i_szz, i_sxy, i_syz, i_sxz, i_epsp, i_wcold, n_solid, stress_index
 
   integer, parameter :: i_rho = 1   !< rho
   integer, parameter :: i_mx = 2    !< rho u
@@ -17,7 +19,8 @@ module m_state
   integer, parameter :: i_sxx = 6, i_syy = 7, i_szz = 8   !< rho S, diagonal
   integer, parameter :: i_sxy = 9, i_syz = 10, i_sxz = 11 !< rho S, off-diagonal
   integer, parameter :: i_epsp = 12                       !< rho eps_p
-  integer, parameter :: n_solid = 12
+  integer, parameter :: i_wcold = 13  !< rho w_c: plastic work stored, not heat (1 - beta)
+  integer, parameter :: n_solid = 13
 
 contains
 

@@ -13,6 +13,7 @@ module m_deck_check
   use m_kinds, only: wp, name_len
   use m_config, only: config_t, material_t, is_set, max_materials, max_fields
   use m_material_library, only: library_lookup, library_names
+  use m_yield, only: strength_problem, strength_from_material
   use m_deck_text, only: int_text, real_text, in_list
   use m_deck_parse, only: deck_group_t
   use m_deck_schema, only: fail, bad
@@ -265,7 +266,7 @@ contains
     character(len=*), intent(in) :: base
     type(material_t), intent(inout) :: m
     character(len=17) :: needs(8)
-    character(len=:), allocatable :: in_m, model
+    character(len=:), allocatable :: in_m, model, why
     integer :: k, n_needs
     if (len_trim(m%name) == 0) call bad(base, 'material', 'name', 'missing required value')
     in_m = " in material '" // trim(m%name) // "'"
@@ -353,7 +354,8 @@ contains
         trim(needs(k)), "missing required value for strength_model '" // model // "'" // in_m)
     end do
     call at_least(m%shear_modulus, 'shear_modulus', .true., 0.0_wp)
-    call at_least(m%yield0, 'yield0', .false., 0.0_wp)
+    ! a perfectly plastic solid without a yield stress is a fluid
+    call at_least(m%yield0, 'yield0', model == 'perfectly_plastic', 0.0_wp)
     call at_least(m%hardening_modulus, 'hardening_modulus', .false., 0.0_wp)
     call at_least(m%jc_b, 'jc_b', .false., 0.0_wp)
     call at_least(m%jc_n, 'jc_n', .true., 0.0_wp)
@@ -368,11 +370,17 @@ contains
     call at_least(m%eps_rate0, 'eps_rate0', .true., 0.0_wp)
     call at_least(m%vp_chi, 'vp_chi', .true., 0.0_wp)
     call at_least(m%vp_n, 'vp_n', .true., 0.0_wp)
+    ! m < 1: the flow stress then grows with the plastic rate, and the return has one root
+    if (is_set(m%vp_m) .and. .not. m%vp_m < 1.0_wp) call bad(base, 'material', 'vp_m', &
+      'must be < 1.0' // in_m // ', got ' // real_text(m%vp_m))
     if (is_set(m%taylor_quinney)) then
       if (m%taylor_quinney < 0.0_wp .or. m%taylor_quinney > 1.0_wp) call bad(base, &
         'material', 'taylor_quinney', 'must lie in [0, 1] (the share of plastic work ' &
         // 'that heats)' // in_m // ', got ' // real_text(m%taylor_quinney))
     end if
+    ! the strength modules' own test of the parameters, should it know more than the above
+    why = strength_problem(strength_from_material(m))
+    if (len_trim(why) > 0) call bad(base, 'material', 'strength_model', trim(why) // in_m)
 
   contains
 

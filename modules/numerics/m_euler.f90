@@ -10,18 +10,18 @@
 !> Kernels only: no MPI, no I/O, no allocation in the loops (workspace is allocated once).
 module m_euler
   use m_kinds, only: wp
-  use m_eos, only: eos_t, eos_pressure, eos_energy, eos_sound_speed2
+  use m_eos, only: eos_t, eos_pressure, eos_energy, eos_sound_speed2, eos_temperature
   use m_reconstruct, only: reconstruct_faces
   use m_flux, only: face_flux, flux_llf_solid
   use m_yield, only: strength_t
-  use m_plasticity, only: jaumann_source
+  use m_plasticity, only: jaumann_source, radial_return
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid, i_sxx, i_syy, i_szz, &
-    i_sxy, i_syz, i_sxz, i_epsp
+    i_sxy, i_syz, i_sxz, i_epsp, i_wcold
   use m_layout, only: layout_t
   implicit none
   private
   public :: euler_work_t, euler_work_init, euler_rhs, euler_max_rate, rk_stage_update
-  public :: primitive_row
+  public :: primitive_row, plastic_correction, solid_temperature
 
   !> Scratch space for one block and one bundle of pencils, allocated once per run. The
   !> bundle buffers are flat and take the shape (nb, cells along the pencil, 5) of each use.
@@ -114,7 +114,8 @@ contains
       ! contiguous: x pencils bundled over j, y and z pencils over i
       select case (d)
       case (1)
-        perm = [1, 2, 3, 4, 5, i_sxx, i_sxy, i_sxz, i_syy, i_szz, i_syz, i_epsp]
+        perm = [1, 2, 3, 4, 5, i_sxx, i_sxy, i_sxz, i_syy, i_szz, i_syz, i_epsp, &
+          i_wcold]
         nb = lay%bsize(2)
         do k = 1, lay%bsize(3)
           call bundle_x(k, nb, n, g, work%pw)
@@ -124,7 +125,8 @@ contains
           call scatter_x(k, nb, n, work%f)
         end do
       case (2)
-        perm = [1, 3, 2, 4, 5, i_syy, i_sxy, i_syz, i_sxx, i_szz, i_sxz, i_epsp]
+        perm = [1, 3, 2, 4, 5, i_syy, i_sxy, i_syz, i_sxx, i_szz, i_sxz, i_epsp, &
+          i_wcold]
         nb = lay%bsize(1)
         do k = 1, lay%bsize(3)
           call bundle_y(k, nb, n, g, work%pw)
@@ -134,7 +136,8 @@ contains
           call scatter_y(k, nb, n, work%f)
         end do
       case default
-        perm = [1, 4, 2, 3, 5, i_szz, i_sxz, i_syz, i_sxx, i_syy, i_sxy, i_epsp]
+        perm = [1, 4, 2, 3, 5, i_szz, i_sxz, i_syz, i_sxx, i_syy, i_sxy, i_epsp, &
+          i_wcold]
         nb = lay%bsize(1)
         do j = 1, lay%bsize(2)
           call bundle_z(j, nb, n, g, work%pw)
@@ -357,6 +360,55 @@ contains
       end do
     end do
   end subroutine stress_rates
+
+  !> Temperature of a row of solid cells: the EOS temperature of the internal energy less the
+  !> elastic energy J2 / (2 G rho) and less the stored cold work w_c (manual/theory.md 5.7).
+  subroutine solid_temperature(eos, st, n, rho, e, qrow, temp)
+    type(eos_t), intent(in) :: eos
+    type(strength_t), intent(in) :: st
+    integer, intent(in) :: n
+    real(wp), intent(in) :: rho(n), e(n), qrow(:, :)
+    real(wp), intent(out) :: temp(n)
+    real(wp) :: eth(n), j2(n)
+    j2 = 0.5_wp * (qrow(1:n, i_sxx)**2 + qrow(1:n, i_syy)**2 + qrow(1:n, i_szz)**2) &
+      + qrow(1:n, i_sxy)**2 + qrow(1:n, i_syz)**2 + qrow(1:n, i_sxz)**2
+    eth = e - qrow(1:n, i_wcold) / rho
+    if (st%g > 0.0_wp) eth = eth - j2 / (2.0_wp * st%g * rho**3)
+    call eos_temperature(eos, n, rho, eth, temp)
+  end subroutine solid_temperature
+
+  !> Radial return after a stage (manual/theory.md section 5): the stage's elastic predictor
+  !> is brought back to the yield surface cell by cell. Total energy is untouched: of the
+  !> plastic work, the Taylor-Quinney share beta stays in e as heat and 1 - beta is booked as
+  !> stored work w_c, which the temperature leaves out.
+  subroutine plastic_correction(lay, eos, st, dt, q)
+    type(layout_t), intent(in) :: lay
+    type(eos_t), intent(in) :: eos
+    type(strength_t), intent(in) :: st
+    real(wp), intent(in) :: dt
+    real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    real(wp), dimension(lay%bsize(1)) :: rho, u, v, w, p, e, temp, epsp, dwp
+    real(wp) :: sdev(lay%bsize(1), 6)
+    integer :: j, k, m, n
+    n = lay%bsize(1)
+    do k = 1, lay%bsize(3)
+      do j = 1, lay%bsize(2)
+        call primitive_row(eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
+          q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
+        call solid_temperature(eos, st, n, rho, e, q(1:n, j, k, :), temp)
+        do m = 1, 6
+          sdev(:, m) = q(1:n, j, k, i_sxx + m - 1) / rho
+        end do
+        epsp = q(1:n, j, k, i_epsp) / rho
+        call radial_return(st, n, sdev, epsp, temp, dt, dwp)
+        do m = 1, 6
+          q(1:n, j, k, i_sxx + m - 1) = rho * sdev(:, m)
+        end do
+        q(1:n, j, k, i_epsp) = rho * epsp
+        q(1:n, j, k, i_wcold) = q(1:n, j, k, i_wcold) + (1.0_wp - st%taylor_quinney) * dwp
+      end do
+    end do
+  end subroutine plastic_correction
 
   !> Largest sum over directions of (|u_d| + c) / dx_d over the interior: dt = cfl / rate.
   !> Also reports whether every interior cell is admissible (rho > 0, c^2 > 0, finite).

@@ -6,13 +6,13 @@ models: hypo-elastic deviatoric stress S (shear modulus G, Jaumann rate: no spin
 von Mises yield (Y0, optional linear hardening H; H = 0 is perfectly plastic), and a
 Mie-Gruneisen pressure on the linear Us-up Hugoniot (c0, s, Gamma0 rho = Gamma0 rho0):
 
-    p(rho, e) = p_H(rho) + Gamma0 rho0 (e - e_H(rho)),                          (1)
+    p(rho, e) = p_H(rho) + Gamma0 rho0 (e - e_H(rho)),                          (2)
     p_H = rho0 c0^2 eta / (1 - s eta)^2,  e_H = p_H eta / (2 rho0),  eta = 1 - rho0/rho,
 
 (p_H = rho0 c0^2 (rho/rho0 - 1) in expansion, as in modules/eos/m_eos.f90).  Stress is
 tension-positive: sigma = sigma_xx = -p + S, S = S_xx (S_yy = S_zz = -S/2).
 
-Constitutive path in uniaxial compression (manual/elastic-plastic-piston.md, eqs 3-7):
+Constitutive path in uniaxial compression (equation numbers: manual/elastic-plastic-piston.md):
     D_xx = du/dx = -(1/rho) drho/dt,  D'_xx = (2/3) D_xx,  dS/dt = 2 G D'_xx
       => elastic: S = -(4/3) G ln(rho/rho0)                                     (4)
     von Mises: sigma_eq = (3/2)|S| = Y  =>  yield at ln(rho/rho0) = Y0/(2G)       (5)
@@ -55,7 +55,8 @@ from collections import namedtuple
 import numpy as np
 
 __all__ = ["Material", "State", "PistonSolution", "MATERIALS", "ElastoPlasticError",
-           "reference_curve", "pressure", "deviator", "shock_from", "solve_shock",
+           "reference_curve", "pressure", "deviator", "elastic_energy", "plastic_work",
+           "rest_state", "shock_from", "solve_shock",
            "hel_state", "piston", "hydro_hugoniot", "longitudinal_speed",
            "plastic_sound_speed"]
 
@@ -87,13 +88,13 @@ class Material(_MaterialBase):
             raise ElastoPlasticError("need rho0, c0 > 0 and s, Gamma0, G, Y, H >= 0: %r"
                                      % (vals,))
         if elastic not in ("hypo", "linear") or gamma_form not in ("rho0", "const"):
-            raise ElastoPlasticError("elastic must be 'hypo' or 'linear', gamma_form 'rho0' "
-                                     "or 'const'")
+            raise ElastoPlasticError("elastic must be 'hypo' or 'linear', "
+                                     "gamma_form 'rho0' or 'const'")
         return _MaterialBase.__new__(cls, name, rho0, c0, s, gamma0, G, Y, H, elastic,
                                      gamma_form)
 
 
-# The issue-3 verification materials (published-data.md section A; aluminium as in the issue)
+# The issue-3 verification materials (published-data.md section A; aluminium: the issue's)
 MATERIALS = {
     "aluminium": Material("aluminium", 2790.0, 5330.0, 1.34, 2.0, 28.6e9, 0.26e9),
     "copper": Material("copper", 8930.0, 3940.0, 1.49, 2.0, 43.33e9, 0.40e9),
@@ -106,7 +107,7 @@ deviatoric work), effective plastic strain."""
 
 
 def reference_curve(mat, rho):
-    """(p_H, e_H) of eq (1); compression and (linear p_H) expansion branches."""
+    """(p_H, e_H) of eq (2); compression and (linear p_H) expansion branches."""
     eta = 1.0 - mat.rho0 / rho
     k0 = mat.rho0 * mat.c0 ** 2
     if eta >= 0.0:
@@ -120,12 +121,12 @@ def reference_curve(mat, rho):
 
 
 def _gamma_rho(mat, rho):
-    """Gamma rho of eq (1): Gamma0 rho0 (SABRE) or Gamma0 rho (gamma_form 'const')."""
+    """Gamma rho of eq (2): Gamma0 rho0 (SABRE) or Gamma0 rho (gamma_form 'const')."""
     return mat.gamma0 * (mat.rho0 if mat.gamma_form == "rho0" else rho)
 
 
 def pressure(mat, rho, e):
-    """Mie-Gruneisen p(rho, e), eq (1)."""
+    """Mie-Gruneisen p(rho, e), eq (2)."""
     ph, eh = reference_curve(mat, rho)
     return ph + _gamma_rho(mat, rho) * (e - eh)
 
@@ -164,6 +165,29 @@ def deviator(mat, rho):
         return -4.0 / 3.0 * mat.G * eps, 0.0
     eps_p = 2.0 / 3.0 * (eps - ly) / (1.0 + mat.H / (3.0 * mat.G))
     return -2.0 / 3.0 * (mat.Y + mat.H * eps_p), eps_p
+
+
+def elastic_energy(mat, st):
+    """Stored elastic shear energy per unit mass, J2/(2 G rho) = 3 S_xx^2/(8 G rho)."""
+    return 0.0 if mat.G == 0.0 else 3.0 * st.sxx ** 2 / (8.0 * mat.G * st.rho)
+
+
+def plastic_work(mat, rho, n=2000):
+    """Plastic work per unit mass on the monotone path from rho0 to rho (eq 6):
+    int sigma_y d(eps_p) / rho; (2/3) Y (1/rho_HEL - 1/rho) in the hypo-elastic, perfectly
+    plastic case.  Path-independent for the same reason as S (eq 6)."""
+    ly = _yield_strain(mat)
+    rho_y = _density_at_strain(mat, ly) if math.isfinite(ly) else math.inf
+    if not rho > rho_y:
+        return 0.0
+    if mat.H == 0.0 and mat.elastic == "hypo":
+        return 2.0 / 3.0 * mat.Y * (1.0 / rho_y - 1.0 / rho)
+    r = np.linspace(rho_y, rho, n + 1)  # composite Simpson in rho
+    k = 1.0 / (1.0 + mat.H / (3.0 * mat.G))
+    eps_p = np.array([deviator(mat, x)[1] for x in r])
+    f = (mat.Y + mat.H * eps_p) * (2.0 / 3.0) * k * np.array([_strain(mat, x)[1] for x in r]) / r
+    h = (rho - rho_y) / n
+    return float(h / 3.0 * (f[0] + f[-1] + 4.0 * f[1:-1:2].sum() + 2.0 * f[2:-1:2].sum()))
 
 
 def rest_state(mat):
@@ -257,15 +281,15 @@ def solve_shock(mat, a, u_target):
 
 
 def longitudinal_speed(mat):
-    """Small-amplitude elastic (longitudinal) wave speed at rest: sqrt(c0^2 + 4G/(3 rho0))."""
+    """Small-amplitude longitudinal elastic wave speed at rest, sqrt(c0^2 + 4G/(3 rho0))."""
     return math.sqrt(mat.c0 ** 2 + 4.0 * mat.G / (3.0 * mat.rho0))
 
 
 def plastic_sound_speed(mat, st):
     """Small-amplitude plastic wave speed relative to the material in a state st on the
-    yield surface (a weak plastic shock from st moves at st.u + this in the lab), perfectly plastic: c^2 = dp/drho|_e + Gamma0 rho0 (p - S)/rho^2
-    (de = -(p - S) dv with S fixed), plus (4/9) H (1 + H/(3G))^-1 d(strain)/drho with
-    hardening (eq 6)."""
+    yield surface (a weak plastic shock from st moves at st.u + this in the lab).
+    Perfectly plastic: c^2 = dp/drho|_e + Gamma rho (p - S)/rho^2 (de = -(p - S) dv with
+    S fixed); hardening adds (4/9) H (1 + H/(3G))^-1 d(strain)/drho (eq 6)."""
     k0 = mat.rho0 * mat.c0 ** 2
     eta = 1.0 - mat.rho0 / st.rho
     deta = mat.rho0 / st.rho ** 2
@@ -293,7 +317,7 @@ def hel_state(mat):
         return rest_state(mat), longitudinal_speed(mat)
     lim = _rho_limit(mat, rest_state(mat))
     rho = _density_at_strain(mat, ly)
-    if rho >= lim:  # yields beyond any reachable compression  # yields beyond any reachable compression
+    if rho >= lim:  # yields beyond any reachable compression
         return None, longitudinal_speed(mat)
     st, d = shock_from(mat, rest_state(mat), rho)
     sb = -2.0 / 3.0 * mat.Y  # exactly on the yield surface (eq 5)
@@ -376,6 +400,11 @@ class PistonSolution:
         for name, st in (("hel", self.hel), ("final", self.final)):
             for k in State._fields:
                 out["%s_%s" % (name, k)] = None if st is None else getattr(st, k)
+            out["%s_w_el" % name] = None if st is None else elastic_energy(self.material, st)
+            out["%s_w_p" % name] = (None if st is None else
+                                    plastic_work(self.material, st.rho))
+            out["%s_e_ref" % name] = (None if st is None else
+                                      reference_curve(self.material, st.rho)[1])
         us, ph, rhoh = hydro_hugoniot(self.material, self.up)
         out.update(hydro_us=us, hydro_p=ph, hydro_rho=rhoh)
         return out
@@ -399,21 +428,23 @@ def piston(mat, up):
     if d_pl < d_el:
         return PistonSolution(mat, up, "two-wave", d_el, hel, u_hel, d_pl, final)
     single, d = solve_shock(mat, rest, up)
-    return PistonSolution(mat, up, "overdriven", d, None, u_hel, d, single, hel_overdrive=d_pl)
+    return PistonSolution(mat, up, "overdriven", d, None, u_hel, d, single,
+                          hel_overdrive=d_pl)
 
 
-# The issue-3 cases: (material, piston speed, what they stand for)
+# The issue-3 cases: (material, piston speed or slab speed, kind)
 CASES = [("aluminium", 100.0, "piston"), ("aluminium", 500.0, "piston"),
-         ("copper", 250.0, "symmetric impact +-250 m/s"),
-         ("copper", 2500.0, "symmetric impact +-2.5 km/s")]
+         ("copper", 250.0, "impact"), ("copper", 2500.0, "impact")]
 
 
-def format_case(mat, up, label=""):
-    """Text block of one case, numbers in engineering units (GPa, kJ/kg)."""
+def format_case(mat, up, kind="piston"):
+    """Text block of one case, numbers in engineering units (GPa, kJ/kg).  kind 'impact':
+    symmetric impact at +-up, also gives the wave speeds in the interface frame."""
     sol = piston(mat, up)
     us, ph, rhoh = hydro_hugoniot(mat, up)
-    lines = ["%s, u_p = %g m/s%s: %s" % (mat.name, up, " (%s)" % label if label else "",
-                                         sol.regime)]
+    what = ("symmetric impact at +-%g m/s: each slab sees u_p = %g m/s" % (up, up)
+            if kind == "impact" else "piston at u_p = %g m/s" % up)
+    lines = ["%s, %s: %s" % (mat.name, what, sol.regime)]
     lines.append("  c_L = %.2f m/s, u_HEL = %s" % (
         longitudinal_speed(mat),
         "none (never yields)" if sol.u_hel is None else "%.4f m/s" % sol.u_hel))
@@ -426,10 +457,14 @@ def format_case(mat, up, label=""):
     for name, (speed, st) in zip(names[sol.regime], sol.waves()):
         lines.append(row % (name, speed, st.rho, st.u, st.p / 1e9, st.sxx / 1e9,
                             st.sigma / 1e9, st.e / 1e3))
+    lines.append("  (speeds and u in the frame of the material at rest%s)"
+                 % ("; in the interface frame subtract u_p: %s" % ", ".join(
+                     "%.2f" % (d - up) for d, _ in sol.waves()) if kind == "impact" else ""))
     lines.append("  hydrodynamic Hugoniot (G = 0): Us = %.2f m/s, rho = %.4f, "
                  "p = rho0 Us up = %.5f GPa" % (us, rhoh, ph / 1e9))
     lines.append("  final -sigma_xx / (rho0 Us up) - 1 = %+.3f %%, p / (rho0 Us up) - 1 = "
-                 "%+.3f %%" % (100 * (-sol.final.sigma / ph - 1), 100 * (sol.final.p / ph - 1)))
+                 "%+.3f %%" % (100 * (-sol.final.sigma / ph - 1),
+                               100 * (sol.final.p / ph - 1)))
     if sol.regime == "overdriven" and sol.hel_overdrive is not None:
         lines.append("  (two-wave construction would give a plastic shock at %.2f m/s > "
                      "precursor %.2f m/s)" % (sol.hel_overdrive, hel_state(mat)[1]))
@@ -439,9 +474,9 @@ def format_case(mat, up, label=""):
 if __name__ == "__main__":
     import sys
     failures = 0
-    for name, up, label in CASES:
+    for name, up, kind in CASES:
         mat = MATERIALS[name]
-        print(format_case(mat, up, label))
+        print(format_case(mat, up, kind))
         sol = piston(mat, up)
         ok = abs(sol.final.u - up) <= 1e-10 * up
         failures += not ok
