@@ -3,7 +3,7 @@
 A half-space x > 0 of a solid at rest (rho0, u = 0, p = 0, S = 0, e = 0) is pushed from
 t = 0 by a piston at constant velocity u_p > 0 (no rise time).  The solid is the one SABRE
 models: hypo-elastic deviatoric stress S (shear modulus G, Jaumann rate: no spin in 1D),
-von Mises yield (Y0, optional linear hardening H; H = 0 is perfectly plastic), and a
+von Mises yield (Y, optional linear hardening H; H = 0 is perfectly plastic), and a
 Mie-Gruneisen pressure on the linear Us-up Hugoniot (c0, s, Gamma0 rho = Gamma0 rho0):
 
     p(rho, e) = p_H(rho) + Gamma0 rho0 (e - e_H(rho)),                          (2)
@@ -12,12 +12,13 @@ Mie-Gruneisen pressure on the linear Us-up Hugoniot (c0, s, Gamma0 rho = Gamma0 
 (p_H = rho0 c0^2 (rho/rho0 - 1) in expansion, as in modules/eos/m_eos.f90).  Stress is
 tension-positive: sigma = sigma_xx = -p + S, S = S_xx (S_yy = S_zz = -S/2).
 
-Constitutive path in uniaxial compression (equation numbers: manual/elastic-plastic-piston.md):
+Constitutive path in uniaxial compression (equation numbers as in the manual page
+manual/elastic-plastic-piston.md):
     D_xx = du/dx = -(1/rho) drho/dt,  D'_xx = (2/3) D_xx,  dS/dt = 2 G D'_xx
       => elastic: S = -(4/3) G ln(rho/rho0)                                     (4)
-    von Mises: sigma_eq = (3/2)|S| = Y  =>  yield at ln(rho/rho0) = Y0/(2G)       (5)
-    plastic (monotone loading): eps_p = (2/3)(ln(rho/rho0) - Y0/(2G)) / (1 + H/(3G)),
-      S = -(2/3)(Y0 + H eps_p)                                                  (6)
+    von Mises: sigma_eq = (3/2)|S| = Y  =>  yield at ln(rho/rho0) = Y/(2G)        (5)
+    plastic (monotone loading): eps_p = (2/3)(ln(rho/rho0) - Y/(2G)) / (1 + H/(3G)),
+      S = -(2/3)(Y + H eps_p)                                                   (6)
 so S is a function of rho alone for monotone compression, whatever the path through a
 shock's structure: the jump conditions below are closed without a shock-path assumption.
 (For comparison with other solvers a Material may instead take the infinitesimal-strain
@@ -32,22 +33,24 @@ Rankine-Hugoniot across a shock of lab speed D, ahead state a, behind state b, w
 mass flux m = rho_a (D - u_a) = rho_b (D - u_b) > 0:
     m^2 = (sigma_a - sigma_b) / (v_a - v_b),   u_b = u_a + m (v_a - v_b),        (9, 10)
     e_b - e_a = (sigma_a + sigma_b)/2 (v_b - v_a).                              (11)
-With (1) and S_b = S(rho_b), (11) is linear in e_b and is solved exactly (eq 12); the
+With (2) and S_b = S(rho_b), (11) is linear in e_b and is solved exactly (eq 12); the
 density behind is found by bisection on u_b(rho_b) = u_p.
 
 Waves: an elastic precursor (a weak shock, solved exactly, not linearised) from rest to
-the Hugoniot elastic limit (HEL, rho_HEL = rho0 exp(Y0/(2G))), then a plastic shock from
+the Hugoniot elastic limit (HEL, rho_HEL = rho0 exp(Y/(2G))), then a plastic shock from
 the HEL state to u = u_p.  u_p <= u_HEL: the elastic shock alone.  Plastic shock at least
 as fast as the precursor: one overdriven shock from rest.  The small-amplitude precursor
 speed is c_L = sqrt(c0^2 + (4/3) G/rho0).
 
 Sources: M. L. Wilkins, "Calculation of elastic-plastic flow", Methods in Computational
-Physics 3 (1964) 211-263 (hypo-elastic stress, von Mises in uniaxial strain, e with the
-deviatoric work); the two-wave structure and HEL in uniaxial strain as in textbooks of
-shock physics (e.g. M. A. Meyers, Dynamic Behavior of Materials, Wiley 1994, ch. 7);
-the Rankine-Hugoniot relations with a total normal stress (ibid., ch. 4).  The formulas
-here are derived in manual/elastic-plastic-piston.md.  `python3 -m sabre_py.elastoplastic`
-(from tools/) prints the verification cases; regress/unit/test_elastoplastic_exact checks.
+Physics 3 (1964) 211-263 (hypo-elastic stress, von Mises radial return, e with the
+deviatoric work); the two-wave structure and the HEL of uniaxial strain as in M. A.
+Meyers, Dynamic Behavior of Materials (Wiley 1994).  LANL ExactPack's ep_piston solves
+the same problem with the same jump formulation; with its constitutive choices
+(elastic='linear', gamma_form='const') this module reproduces its published unit-test
+values (regress/unit/test_elastoplastic_exact).  The formulas are derived in
+manual/elastic-plastic-piston.md.  `python3 -B -m sabre_py.elastoplastic` (from tools/)
+prints the verification cases.
 """
 import math
 from collections import namedtuple
@@ -185,7 +188,8 @@ def plastic_work(mat, rho, n=2000):
     r = np.linspace(rho_y, rho, n + 1)  # composite Simpson in rho
     k = 1.0 / (1.0 + mat.H / (3.0 * mat.G))
     eps_p = np.array([deviator(mat, x)[1] for x in r])
-    f = (mat.Y + mat.H * eps_p) * (2.0 / 3.0) * k * np.array([_strain(mat, x)[1] for x in r]) / r
+    dstrain = np.array([_strain(mat, x)[1] for x in r])
+    f = (mat.Y + mat.H * eps_p) * (2.0 / 3.0) * k * dstrain / r
     h = (rho - rho_y) / n
     return float(h / 3.0 * (f[0] + f[-1] + 4.0 * f[1:-1:2].sum() + 2.0 * f[2:-1:2].sum()))
 
@@ -196,7 +200,9 @@ def rest_state(mat):
 
 def shock_from(mat, a, rho_b):
     """(state behind, lab shock speed D) for a right-moving shock from state a to density
-    rho_b > a.rho, from eqs (9)-(12).  Raises if the jump is not compressive."""
+    rho_b > a.rho, from eqs (9)-(12).  a must lie on the monotone compression path from
+    rest (rest itself or the HEL), so that S_b = S(rho_b).  Raises if the jump is not
+    compressive."""
     sb, eps_p = deviator(mat, rho_b)
     ph, eh = reference_curve(mat, rho_b)
     g = _gamma_rho(mat, rho_b)
@@ -237,11 +243,14 @@ def solve_shock(mat, a, u_target):
     Bisection on rho_b (u_b increases with rho_b on the Hugoniot), to the last bit."""
     if not u_target > a.u:
         raise ElastoPlasticError("the piston must be faster than the state ahead")
+
     def u_of(rho):
         try:
             return shock_from(mat, a, rho)[0].u
-        except ElastoPlasticError:  # at or past the limiting compression
-            return math.inf
+        except ElastoPlasticError:
+            # a jump too small to resolve (sigma_b == sigma_a to round-off) moves nothing;
+            # otherwise we are at or past the limiting compression
+            return a.u if rho - a.rho < 1e-8 * a.rho else math.inf
 
     lim = _rho_limit(mat, a)
     lo = a.rho
@@ -340,7 +349,8 @@ class PistonSolution:
       hel               HEL state (None unless 'two-wave')
       u_hel             particle velocity of the HEL state (None if it never yields)
       plastic_speed     lab speed of the plastic shock (None when 'elastic'; equal to
-                        precursor_speed when 'overdriven')
+                        precursor_speed when 'overdriven'; u_HEL + c_pl, the acoustic
+                        limit, when u_p is within 1e-9 of u_HEL)
       final             state behind the last wave (u = up)
       hel_overdrive     (regime 'overdriven') the two-wave plastic speed that exceeded
                         the precursor, for the record
@@ -400,7 +410,8 @@ class PistonSolution:
         for name, st in (("hel", self.hel), ("final", self.final)):
             for k in State._fields:
                 out["%s_%s" % (name, k)] = None if st is None else getattr(st, k)
-            out["%s_w_el" % name] = None if st is None else elastic_energy(self.material, st)
+            out["%s_w_el" % name] = (None if st is None else
+                                     elastic_energy(self.material, st))
             out["%s_w_p" % name] = (None if st is None else
                                     plastic_work(self.material, st.rho))
             out["%s_e_ref" % name] = (None if st is None else
@@ -424,6 +435,11 @@ def piston(mat, up):
     if u_hel == 0.0:  # Y = 0: no precursor
         final, d = solve_shock(mat, rest, up)
         return PistonSolution(mat, up, "overdriven", d, None, 0.0, d, final)
+    if up - u_hel <= 1e-9 * u_hel:
+        # the plastic jump is below round-off (its speed would be a 0/0): it is the
+        # acoustic plastic wave of the HEL state, and the final state is the HEL
+        return PistonSolution(mat, up, "two-wave", d_el, hel, u_hel,
+                              u_hel + plastic_sound_speed(mat, hel), hel)
     final, d_pl = solve_shock(mat, hel, up)
     if d_pl < d_el:
         return PistonSolution(mat, up, "two-wave", d_el, hel, u_hel, d_pl, final)
@@ -457,9 +473,11 @@ def format_case(mat, up, kind="piston"):
     for name, (speed, st) in zip(names[sol.regime], sol.waves()):
         lines.append(row % (name, speed, st.rho, st.u, st.p / 1e9, st.sxx / 1e9,
                             st.sigma / 1e9, st.e / 1e3))
-    lines.append("  (speeds and u in the frame of the material at rest%s)"
-                 % ("; in the interface frame subtract u_p: %s" % ", ".join(
-                     "%.2f" % (d - up) for d, _ in sol.waves()) if kind == "impact" else ""))
+    frame = ""
+    if kind == "impact":
+        frame = "; interface-frame speeds (D - u_p): %s" % ", ".join(
+            "%.2f" % (d - up) for d, _ in sol.waves())
+    lines.append("  (speeds and u in the frame of the material at rest%s)" % frame)
     lines.append("  hydrodynamic Hugoniot (G = 0): Us = %.2f m/s, rho = %.4f, "
                  "p = rho0 Us up = %.5f GPa" % (us, rhoh, ph / 1e9))
     lines.append("  final -sigma_xx / (rho0 Us up) - 1 = %+.3f %%, p / (rho0 Us up) - 1 = "
