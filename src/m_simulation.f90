@@ -5,14 +5,14 @@
 !> state painted from the bodies (or read from a checkpoint by m_output).
 module m_simulation
   use m_kinds, only: wp, i8, name_len
-  use m_config, only: config_t, material_t, is_set
+  use m_config, only: config_t, material_t, is_set, material_index
   use m_layout, only: layout_t, layout_init, block_offset
   use m_blocks, only: block_t, blocks_allocate
   use m_halo, only: halo_plan_t, halo_plan_build
   use m_partition, only: partition_blocks
   use m_boundary, only: bc_kind_t, bc_from_name
   use m_eos, only: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial, &
-    eos_energy
+    eos_energy, eos_prepare
   use m_euler, only: euler_work_t, euler_work_init
   use m_reconstruct, only: scheme_from_name
   use m_flux, only: flux_from_name
@@ -24,7 +24,7 @@ module m_simulation
   use m_errors, only: stop_collective
   implicit none
   private
-  public :: sim_t, sim_setup, sim_paint_initial_state, material_index
+  public :: sim_t, sim_setup, sim_paint_initial_state
 
   type :: sim_t
     type(config_t) :: cfg
@@ -54,15 +54,6 @@ module m_simulation
   end type sim_t
 
 contains
-
-  integer function material_index(cfg, name) result(k)
-    type(config_t), intent(in) :: cfg
-    character(len=*), intent(in) :: name
-    do k = 1, cfg%n_materials
-      if (cfg%materials(k)%name == name) return
-    end do
-    k = 0
-  end function material_index
 
   subroutine sim_setup(cfg, sim)
     type(config_t), intent(in) :: cfg
@@ -125,6 +116,7 @@ contains
     call halo_plan_build(sim%lay, sim%blocks, sim%plan)
     call euler_work_init(sim%lay, sim%nvar, sim%work)
     sim%eos = eos_of(mat)
+    call eos_prepare(sim%eos)
     sim%scheme = scheme_from_name(cfg%scheme)
     sim%flux = flux_from_name(cfg%flux)
   end subroutine sim_setup

@@ -7,7 +7,8 @@ module m_config
   use m_kinds, only: wp, name_len, path_len
   implicit none
   private
-  public :: config_t, material_t, body_t, unset, is_set, max_materials, max_bodies, max_fields
+  public :: config_t, material_t, body_t, unset, is_set, material_index
+  public :: max_materials, max_bodies, max_fields
 
   real(wp), parameter :: unset = -huge(1.0_wp)
   integer, parameter :: max_materials = 16
@@ -127,4 +128,13 @@ contains
     real(wp), intent(in) :: x
     is_set = x > 0.5_wp * unset
   end function is_set
+  !> Index of the material called name in cfg%materials, 0 when there is none.
+  pure integer function material_index(cfg, name) result(k)
+    type(config_t), intent(in) :: cfg
+    character(len=*), intent(in) :: name
+    do k = 1, cfg%n_materials
+      if (cfg%materials(k)%name == name) return
+    end do
+    k = 0
+  end function material_index
 end module m_config

@@ -8,10 +8,16 @@
 !> The reference curve is the Hugoniot p_H = rho0 c0^2 eta / (1 - s eta)^2,
 !> eta = 1 - rho0/rho, in compression (eta >= 0) and the linear branch rho0 c0^2 (rho/rho0 - 1)
 !> in expansion; e_H = p_H eta / (2 rho0) (Rankine-Hugoniot energy from rest at e = 0).
-!> Temperature: T = T0 + (e - e_H(rho)) / cv (the Hugoniot as the reference curve).
 !> Polynomial Mie-Gruneisen (eq. 2.6, published-data section C): with mu = rho/rho0 - 1,
 !> p = K mu + A mu^2 + B mu^3 + gamma rho e (the A and B terms in compression only; gamma
-!> (1 + mu) rho0 e = gamma rho e), T = T0 + e / cv.
+!> (1 + mu) rho0 e = gamma rho e).
+!> Temperature of both Mie-Gruneisen kinds (manual/eos-temperature.md, eqs. 2.7-2.13): the
+!> isentrope through (rho0, e = 0, T0) is the reference, T = T_s(rho) + (e - e_s(rho)) / cv,
+!> which with a constant cv is the one temperature consistent with the pressure. e_s(rho)
+!> has no closed form; eos_prepare integrates it once per material into a table in eos_t and
+!> eos_temperature interpolates it (quintic Hermite). Without eos_prepare the table is absent
+!> and eos_temperature falls back to the old references (T0 + (e - e_H)/cv, T0 + e/cv), which
+!> give no shock heating: every Mie-Gruneisen eos_t must be passed to eos_prepare.
 !> Not here: strength, reaction, mixtures.
 module m_eos
   use m_kinds, only: wp
@@ -19,11 +25,21 @@ module m_eos
   private
   public :: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial
   public :: eos_pressure, eos_energy, eos_sound_speed2, eos_temperature, eos_min_pressure
+  public :: eos_prepare
 
   integer, parameter :: eos_ideal_gas = 1
   integer, parameter :: eos_stiffened_gas = 2
   integer, parameter :: eos_mie_gruneisen = 3
   integer, parameter :: eos_polynomial = 4
+
+  ! Isentrope table (eq. 2.13): nodes eta_j = j deta, eta = 0 is node 0 so that the kink of
+  ! the reference curves at rho = rho0 falls on a node; RK4 takes rk4_substeps steps per
+  ! interval. The compressed end stops where the Hugoniot denominator 1 - s eta reaches 0.1.
+  real(wp), parameter :: isentrope_deta = 1.0e-3_wp
+  real(wp), parameter :: isentrope_eta_min = -0.5_wp
+  real(wp), parameter :: isentrope_eta_max = 0.6_wp
+  real(wp), parameter :: hugoniot_denominator_min = 0.1_wp
+  integer, parameter :: rk4_substeps = 10
 
   type :: eos_t
     integer :: kind = eos_ideal_gas
@@ -38,6 +54,10 @@ module m_eos
     real(wp) :: bulk = 0.0_wp       !< polynomial: K
     real(wp) :: poly_a = 0.0_wp     !< polynomial: A
     real(wp) :: poly_b = 0.0_wp     !< polynomial: B
+    !> Filled by eos_prepare for the Mie-Gruneisen kinds: the isentrope through
+    !> (rho0, e = 0, T0) at eta_j = j isentrope_deta, j = lbound..ubound(isentrope, 2), as
+    !> (e_s, de_s/deta, d2e_s/deta2) in isentrope(0:2, j).
+    real(wp), allocatable :: isentrope(:, :)
   end type eos_t
 
 contains
@@ -140,27 +160,159 @@ contains
     end select
   end subroutine eos_sound_speed2
 
+  !> T = T_s(rho) + (e - e_s(rho)) / cv for the Mie-Gruneisen kinds (eq. 2.11), with T_s in
+  !> closed form (eqs. 2.10, 2.12) and e_s from the table of eos_prepare (eq. 2.13).
   subroutine eos_temperature(eos, n, rho, e, T)
     type(eos_t), intent(in) :: eos
     integer, intent(in) :: n
     real(wp), intent(in) :: rho(n), e(n)
     real(wp), intent(out) :: T(n)
-    real(wp) :: ph, eh, dph, deh
-    integer :: i
+    real(wp) :: ph, eh, dph, deh, eta, es
+    integer :: i, jlo, jhi
+    if (allocated(eos%isentrope)) then
+      jlo = lbound(eos%isentrope, 2)
+      jhi = ubound(eos%isentrope, 2)
+    end if
     select case (eos%kind)
     case (eos_ideal_gas)
       T = e / eos%cv
     case (eos_stiffened_gas)
       T = (e - eos%p_inf / rho) / eos%cv
     case (eos_polynomial)
-      T = eos%T0 + e / eos%cv
-    case default
+      if (.not. allocated(eos%isentrope)) then
+        T = eos%T0 + e / eos%cv
+        return
+      end if
       do i = 1, n
-        call hugoniot(eos, rho(i), ph, eh, dph, deh)
-        T(i) = eos%T0 + (e(i) - eh) / eos%cv
+        eta = 1.0_wp - eos%rho0 / rho(i)
+        es = isentrope_energy(eos%isentrope, jlo, jhi, eta)
+        T(i) = eos%T0 * (rho(i) / eos%rho0)**eos%gruneisen + (e(i) - es) / eos%cv
+      end do
+    case default
+      if (.not. allocated(eos%isentrope)) then
+        do i = 1, n
+          call hugoniot(eos, rho(i), ph, eh, dph, deh)
+          T(i) = eos%T0 + (e(i) - eh) / eos%cv
+        end do
+        return
+      end if
+      do i = 1, n
+        eta = 1.0_wp - eos%rho0 / rho(i)
+        es = isentrope_energy(eos%isentrope, jlo, jhi, eta)
+        T(i) = eos%T0 * exp(eos%gruneisen * eta) + (e(i) - es) / eos%cv
       end do
     end select
   end subroutine eos_temperature
+
+  !> e_s(eta) from the table: quintic Hermite on the interval holding eta (eq. 2.13), exact
+  !> for quintics, so the error is O(deta^6). Outside the table the first-order Taylor
+  !> expansion about the end node: continuous with its slope, but no longer an isentrope.
+  !> A NaN eta takes the extrapolation branch and gives NaN, never an integer conversion.
+  pure real(wp) function isentrope_energy(table, jlo, jhi, eta) result(es)
+    integer, intent(in) :: jlo, jhi
+    real(wp), intent(in) :: table(0:2, jlo:jhi), eta
+    real(wp) :: x, t, dy, d0, d1, s0, s1
+    integer :: j
+    if (eta > jlo * isentrope_deta .and. eta < jhi * isentrope_deta) then
+      x = eta / isentrope_deta
+      j = min(max(floor(x), jlo), jhi - 1)
+      t = x - j
+      dy = table(0, j + 1) - table(0, j)
+      d0 = table(1, j) * isentrope_deta
+      d1 = table(1, j + 1) * isentrope_deta
+      s0 = table(2, j) * isentrope_deta**2
+      s1 = table(2, j + 1) * isentrope_deta**2
+      es = table(0, j) + t * (d0 + t * (0.5_wp * s0 + t * ( &
+        (10.0_wp * dy - 6.0_wp * d0 - 4.0_wp * d1 - 0.5_wp * (3.0_wp * s0 - s1)) + t * ( &
+        (-15.0_wp * dy + 8.0_wp * d0 + 7.0_wp * d1 + 0.5_wp * (3.0_wp * s0 - 2.0_wp * s1)) &
+        + t * (6.0_wp * dy - 3.0_wp * (d0 + d1) - 0.5_wp * (s0 - s1))))))
+    else if (eta >= jhi * isentrope_deta) then
+      es = table(0, jhi) + table(1, jhi) * (eta - jhi * isentrope_deta)
+    else
+      es = table(0, jlo) + table(1, jlo) * (eta - jlo * isentrope_deta)
+    end if
+  end function isentrope_energy
+
+  !> Tabulates the isentrope through (rho0, e = 0, T0) for the Mie-Gruneisen kinds (eq. 2.9):
+  !> de_s/deta = p(rho, e_s) / rho0, rho = rho0 / (1 - eta), integrated by RK4 from eta = 0
+  !> both ways with the pressure of the EOS itself. Call once per material after every
+  !> field is set, and again if a field changes; other kinds get no table.
+  subroutine eos_prepare(eos)
+    type(eos_t), intent(inout) :: eos
+    real(wp) :: eta_max, h, eta, e, k1, k2, k3, k4
+    integer :: jlo, jhi, j, m, step
+    if (allocated(eos%isentrope)) deallocate(eos%isentrope)
+    if (eos%kind /= eos_mie_gruneisen .and. eos%kind /= eos_polynomial) return
+    eta_max = isentrope_eta_max
+    if (eos%kind == eos_mie_gruneisen .and. eos%s > 0.0_wp) &
+      eta_max = min(eta_max, (1.0_wp - hugoniot_denominator_min) / eos%s)
+    jhi = floor(eta_max / isentrope_deta)
+    jlo = ceiling(isentrope_eta_min / isentrope_deta)
+    allocate(eos%isentrope(0:2, jlo:jhi))
+    call store_node(0, 0.0_wp)
+    do step = 1, -1, -2
+      h = step * isentrope_deta / rk4_substeps
+      e = 0.0_wp
+      j = 0
+      do while (j + step >= jlo .and. j + step <= jhi)
+        eta = j * isentrope_deta
+        do m = 0, rk4_substeps - 1
+          k1 = isentrope_slope(eos, eta + m * h, e)
+          k2 = isentrope_slope(eos, eta + (m + 0.5_wp) * h, e + 0.5_wp * h * k1)
+          k3 = isentrope_slope(eos, eta + (m + 0.5_wp) * h, e + 0.5_wp * h * k2)
+          k4 = isentrope_slope(eos, eta + (m + 1) * h, e + h * k3)
+          e = e + h * (k1 + 2.0_wp * (k2 + k3) + k4) / 6.0_wp
+        end do
+        j = j + step
+        call store_node(j, e)
+      end do
+    end do
+
+  contains
+
+    !> Value and the exact first and second derivatives from the ODE (eq. 2.9) at node jj;
+    !> d2e_s/deta2 = (dp/drho|_e drho/deta + dp/de|_rho de_s/deta) / rho0 is continuous at
+    !> eta = 0 although the reference curves' second derivatives are not.
+    subroutine store_node(jj, ee)
+      integer, intent(in) :: jj
+      real(wp), intent(in) :: ee
+      real(wp) :: rho, p, dpdrho, dpde
+      rho = eos%rho0 / (1.0_wp - jj * isentrope_deta)
+      call pressure_slopes(eos, rho, ee, p, dpdrho, dpde)
+      eos%isentrope(0, jj) = ee
+      eos%isentrope(1, jj) = p / eos%rho0
+      eos%isentrope(2, jj) = (dpdrho * rho**2 / eos%rho0 + dpde * p / eos%rho0) / eos%rho0
+    end subroutine store_node
+
+  end subroutine eos_prepare
+
+  !> de_s/deta = p(rho, e) / rho0 on the isentrope (eq. 2.9), rho = rho0 / (1 - eta).
+  pure real(wp) function isentrope_slope(eos, eta, e) result(dedeta)
+    type(eos_t), intent(in) :: eos
+    real(wp), intent(in) :: eta, e
+    real(wp) :: p, dpdrho, dpde
+    call pressure_slopes(eos, eos%rho0 / (1.0_wp - eta), e, p, dpdrho, dpde)
+    dedeta = p / eos%rho0
+  end function isentrope_slope
+
+  !> One point of a Mie-Gruneisen kind: p, dp/drho|_e and dp/de|_rho (table set-up only; the
+  !> array routines above keep their own loops).
+  pure subroutine pressure_slopes(eos, rho, e, p, dpdrho, dpde)
+    type(eos_t), intent(in) :: eos
+    real(wp), intent(in) :: rho, e
+    real(wp), intent(out) :: p, dpdrho, dpde
+    real(wp) :: ph, eh, dph, deh
+    if (eos%kind == eos_polynomial) then
+      dpde = eos%gruneisen * rho
+      p = poly_cold(eos, rho) + dpde * e
+      dpdrho = poly_dcold(eos, rho) + eos%gruneisen * e
+    else
+      call hugoniot(eos, rho, ph, eh, dph, deh)
+      dpde = eos%gruneisen * eos%rho0
+      p = ph + dpde * (e - eh)
+      dpdrho = dph - dpde * deh
+    end if
+  end subroutine pressure_slopes
 
   !> Cold part of the polynomial EOS, P_cold = K mu + A mu^2 + B mu^3 (A, B in compression).
   elemental real(wp) function poly_cold(eos, rho) result(pc)

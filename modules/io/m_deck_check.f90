@@ -11,7 +11,7 @@
 !> the physics: what a material or a shape means is for eos/, strength/ and scene/.
 module m_deck_check
   use m_kinds, only: wp, name_len
-  use m_config, only: config_t, material_t, is_set, max_materials, max_fields
+  use m_config, only: config_t, material_t, is_set, max_materials, max_fields, material_index
   use m_material_library, only: library_lookup, library_names
   use m_yield, only: strength_problem, strength_from_material
   use m_deck_text, only: int_text, real_text, in_list
@@ -612,15 +612,6 @@ contains
       x = m%T0
     end select
   end function material_value
-
-  integer function material_index(cfg, name) result(k)
-    type(config_t), intent(in) :: cfg
-    character(len=*), intent(in) :: name
-    do k = 1, cfg%n_materials
-      if (cfg%materials(k)%name == name) return
-    end do
-    k = 0
-  end function material_index
 
   subroutine check_choice(base, gname, vname, value, allowed)
     character(len=*), intent(in) :: base, gname, vname, value, allowed

@@ -1,8 +1,8 @@
 !> Every HDF5 call of SABRE (DESIGN section 7): plot and checkpoint files hold GLOBAL datasets
 !> of Fortran shape (cells(1), cells(2), cells(3)) (h5py sees (nz, ny, nx)); 1D and 2D runs
 !> still use 3D datasets with size 1 in the unused directions. Files are opened with the
-!> MPI-IO driver on the world communicator (its handle from m_comm); each rank writes and reads the interior cells of its own
-!> blocks as hyperslabs with independent transfers, so blocks may come back to a different
+!> MPI-IO driver on the world communicator (its handle from m_comm); each rank writes and
+!> reads the interior cells of its own blocks as hyperslabs with independent transfers, so blocks may come back to a different
 !> owner than the one that wrote them (restart on another rank count). Every public routine
 !> is collective: every rank calls it, even one holding no block, because HDF5 creates files,
 !> groups, datasets and attributes collectively. Attributes and text datasets store rank 0's
