@@ -208,16 +208,16 @@ contains
   end subroutine output_restart
 
   function history_columns() result(cols)
-    character(len=name_len) :: cols(14)
+    character(len=name_len) :: cols(15)
     cols = [character(len=name_len) :: 'step', 'time', 'dt', 'mass', 'mom_x', 'mom_y', &
       'mom_z', 'kinetic', 'internal', 'total_energy', 'max_p', 'max_T', 'max_eps_p', &
-      'fallback_faces']
+      'fallback_faces', 'first_order_steps']
   end function history_columns
 
   !> The history row after 'step': totals (volume-weighted; 2 pi r in axisymmetry) and maxima.
   function history_values(sim) result(v)
     type(sim_t), intent(in) :: sim
-    real(wp) :: v(13)
+    real(wp) :: v(14)
     real(wp) :: tot(8), vol, r, pmax, tmax, epmax
     real(wp), dimension(sim%lay%bsize(1)) :: rho, u, vv, w, p, e, temp, dv
     integer :: b, i, j, k, n
@@ -262,7 +262,8 @@ contains
     end do
     tot(8) = real(sim%fallback_step, wp)
     call comm_sum_array(tot(1:7))
-    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), comm_max(epmax), tot(8)]
+    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), comm_max(epmax), tot(8), &
+      real(sim%first_order_steps, wp)]
   end function history_values
 
 end module m_output

@@ -48,6 +48,8 @@ module m_simulation
     integer(i8) :: cell_steps = 0      !< this rank's cells x steps, for the cost report
     integer(i8) :: fallback_faces = 0  !< faces reconstructed at first order (this rank)
     integer(i8) :: fallback_step = 0   !< the same, in the last step, summed over ranks
+    integer :: first_order_steps = 0   !< steps recomputed at first order (a-posteriori)
+    logical :: step_failed = .false.   !< the last step met a state with no admissible cells
     integer :: restart_step = 0
     type(timers_t) :: timers
     real(wp) :: wall_start = 0.0_wp

@@ -7,6 +7,8 @@ module m_timeloop
   use m_halo, only: halo_exchange
   use m_boundary, only: boundary_apply, boundary_walls
   use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update, plastic_correction
+  use m_reconstruct, only: scheme_eno1
+  use m_flux, only: flux_kind_llf
   use m_output, only: output_plot, output_checkpoint, history_columns, history_values, &
     step_file_name
   use m_history, only: history_t, history_open, history_write, history_close
@@ -40,11 +42,9 @@ contains
       call history_write(hist, sim%step, history_values(sim))
     end if
     worst_step = 0.0_wp
+    call step_size(sim, rate, ok)
+    stop_bad = .not. ok
     do
-      call timer_start(sim%timers, 'dt')
-      call step_size(sim, rate, ok)
-      call timer_stop(sim%timers, 'dt')
-      stop_bad = .not. ok
       if (stop_bad) exit
       if (sim%time >= t_end * (1.0_wp - 1.0e-12_wp) .or. sim%step >= sim%cfg%max_steps) exit
       sim%dt = sim%cfg%cfl / rate
@@ -55,6 +55,12 @@ contains
       if (sim%time + sim%dt > t_end) sim%dt = t_end - sim%time
       t0 = comm_wtime()
       call advance(sim)
+      call timer_start(sim%timers, 'dt')
+      ok = .false.
+      if (.not. sim%step_failed) call step_size(sim, rate, ok)
+      call timer_stop(sim%timers, 'dt')
+      if (.not. ok) call recompute_first_order(sim, rate, ok)
+      stop_bad = .not. ok
       sim%time = sim%time + sim%dt
       sim%step = sim%step + 1
       sim%cell_steps = sim%cell_steps + int(size(sim%blocks), i8) * product(sim%lay%bsize)
@@ -96,6 +102,46 @@ contains
       'shows it; lower cfl or use a more dissipative scheme (eno1/eno2, llf)', .not. stop_bad)
   end subroutine run_time_loop
 
+  !> The a-posteriori fallback (manual/theory.md section 3): when a step leaves any cell
+  !> inadmissible on any rank, the whole step is recomputed from its start at first order in
+  !> space (eno1 + LLF, same Runge-Kutta), and if that is still inadmissible, with dt halved,
+  !> up to four times. Every rank takes the same decision, so results stay bit-identical on
+  !> any number of ranks; run.log and history.csv (first_order_steps) say how often it was
+  !> needed. Nothing is clipped.
+  subroutine recompute_first_order(sim, rate, ok)
+    type(sim_t), intent(inout) :: sim
+    real(wp), intent(out) :: rate
+    logical, intent(out) :: ok
+    integer :: scheme, flux, halvings, b
+    character(len=line_len) :: msg
+    scheme = sim%scheme
+    flux = sim%flux
+    sim%scheme = scheme_eno1
+    sim%flux = flux_kind_llf
+    ok = .false.
+    do halvings = 0, 4
+      if (halvings > 0) sim%dt = 0.5_wp * sim%dt
+      do b = 1, size(sim%blocks)
+        associate (q => sim%blocks(b)%q, n => sim%lay%bsize)
+          q(1:n(1), 1:n(2), 1:n(3), :) = sim%blocks(b)%q0
+        end associate
+      end do
+      call advance(sim)
+      ok = .false.
+      if (.not. sim%step_failed) call step_size(sim, rate, ok)
+      if (ok) exit
+    end do
+    sim%scheme = scheme
+    sim%flux = flux
+    sim%first_order_steps = sim%first_order_steps + 1
+    if (sim%first_order_steps <= 10) then
+      write(msg, '(a,i0,a,i0,a)') 'fallback: step ', sim%step + 1, &
+        ' recomputed at first order in space (eno1 + llf), dt halved ', halvings, ' times'
+      if (.not. ok) msg = trim(msg) // ': still inadmissible'
+      call log_line(msg)
+    end if
+  end subroutine recompute_first_order
+
   !> Global signal rate (max over ranks) and admissibility of every cell.
   subroutine step_size(sim, rate, ok)
     type(sim_t), intent(inout) :: sim
@@ -126,7 +172,10 @@ contains
     real(wp), parameter :: stage_time(3, 3) = reshape([0.0_wp, 0.0_wp, 0.0_wp, &
       0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.5_wp], [3, 3])
     integer :: nf
+    logical :: failed
     nf = 0
+    failed = .false.
+    sim%step_failed = .false.
     do stage = 1, sim%cfg%rk_order
       tstage = sim%time + stage_time(stage, sim%cfg%rk_order) * sim%dt
       call timer_start(sim%timers, 'halo')
@@ -137,13 +186,18 @@ contains
       do b = 1, size(sim%blocks)
         call boundary_walls(sim%lay, sim%bc, sim%blocks(b), tstage, wall, vwall)
         call euler_rhs(sim%lay, sim%eos, sim%st, sim%scheme, sim%flux, sim%blocks(b)%q, &
-          sim%blocks(b)%rhs, sim%blocks(b)%offset, wall, vwall, sim%work, nf)
+          sim%blocks(b)%rhs, sim%blocks(b)%offset, wall, vwall, sim%work, nf, failed)
+        if (failed) exit
         call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, sim%blocks(b)%q, &
           sim%blocks(b)%q0, sim%blocks(b)%rhs)
         if (sim%has_strength) call plastic_correction(sim%lay, sim%eos, sim%st, sim%dt, &
           sim%blocks(b)%q)
       end do
       call timer_stop(sim%timers, 'fluxes')
+      ! a stage whose state has no admissible cell values somewhere ends the step on every
+      ! rank: the caller recomputes it at first order
+      sim%step_failed = comm_any(failed)
+      if (sim%step_failed) exit
     end do
     nfall = int(nf, i8)
     sim%fallback_faces = sim%fallback_faces + nfall

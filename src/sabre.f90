@@ -141,8 +141,9 @@ contains
     real(wp) :: cells, peak, base_sum, arrays
     cs = comm_sum(s%cell_steps)
     nfall = comm_sum(s%fallback_faces)
-    write(line, '(a,i0,a,es14.7,a,i0,a)') 'end: step ', s%step, ', time ', s%time, &
-      ', first-order fallback faces ', nfall, ' in all'
+    write(line, '(a,i0,a,es14.7,a,i0,a,i0,a)') 'end: step ', s%step, ', time ', s%time, &
+      ', first-order fallback faces ', nfall, ' in all, ', s%first_order_steps, &
+      ' steps recomputed at first order'
     call log_line(line)
     write(line, '(a,f10.3,a,f9.3,a,f9.3,a,f9.3,a,f9.3,a)') 'wall time ', elapsed, &
       ' s: fluxes ', comm_max(timer_total(s%timers, 'fluxes')), ' s, halo+bc ', &

@@ -76,9 +76,10 @@ contains
   end subroutine primitive_row
 
   !> rhs = L(q) over the interior of one block; nfallback counts faces that fell back to
-  !> first order.
+  !> first order; failed is set (and the rest skipped) when even the cell values next to a
+  !> face are not admissible: the stage cannot go on and the caller recomputes the step.
   subroutine euler_rhs(lay, eos, st, scheme, flux_kind, q, rhs, offset, wall, vwall, work, &
-      nfallback)
+      nfallback, failed)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st    !< strength (used when q carries the stress)
@@ -89,6 +90,7 @@ contains
     real(wp), intent(out) :: rhs(:, :, :, :)
     type(euler_work_t), intent(inout) :: work
     integer, intent(inout) :: nfallback
+    logical, intent(inout) :: failed
     integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m
     real(wp) :: rdx, r
     lo = 1 - lay%ng
@@ -121,7 +123,8 @@ contains
           call bundle_x(k, nb, n, g, work%pw)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
             vwall(:, d), work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, &
-            nfallback)
+            nfallback, failed)
+          if (failed) return
           call scatter_x(k, nb, n, work%f)
         end do
       case (2)
@@ -132,7 +135,8 @@ contains
           call bundle_y(k, nb, n, g, work%pw)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
             vwall(:, d), work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, &
-            nfallback)
+            nfallback, failed)
+          if (failed) return
           call scatter_y(k, nb, n, work%f)
         end do
       case default
@@ -143,7 +147,8 @@ contains
           call bundle_z(j, nb, n, g, work%pw)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
             vwall(:, d), work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, &
-            nfallback)
+            nfallback, failed)
+          if (failed) return
           call scatter_z(j, nb, n, work%f)
         end do
       end select
@@ -260,7 +265,7 @@ contains
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
   subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, wall, vwall, pw, &
-      wl, wr, el, er, cl, cr, f, nfallback)
+      wl, wr, el, er, cl, cr, f, nfallback, failed)
     type(eos_t), intent(in) :: eos
     real(wp), intent(in) :: shear
     integer, intent(in) :: scheme, flux_kind, nb, n, g, nv
@@ -270,6 +275,7 @@ contains
     real(wp), intent(out) :: wl(nb, 0:n, nv), wr(nb, 0:n, nv), el(nb, 0:n), er(nb, 0:n)
     real(wp), intent(out) :: cl(nb, 0:n), cr(nb, 0:n), f(nb, 0:n, nv)
     integer, intent(inout) :: nfallback
+    logical, intent(inout) :: failed
     integer :: i, b, nf
     nf = nb * (n + 1)
     call reconstruct_faces(scheme, nb, n, g, nv, pw, wl, wr)
@@ -299,6 +305,11 @@ contains
           wr(b, i, :) = pw(b, i + 1, :)
           call eos_sound_speed2(eos, 1, wl(b, i, 1), wl(b, i, 5), cl(b, i))
           call eos_sound_speed2(eos, 1, wr(b, i, 1), wr(b, i, 5), cr(b, i))
+          if (wl(b, i, 1) > 0.0_wp .and. wr(b, i, 1) > 0.0_wp .and. cl(b, i) > 0.0_wp &
+            .and. cr(b, i) > 0.0_wp) cycle
+          failed = .true.
+          f = 0.0_wp
+          return
         end do
       end do
     end if
