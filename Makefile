@@ -3,7 +3,8 @@
 #   make deps       install the missing Debian packages (compilers, MPI, HDF5, METIS, Python)
 #   make check      check build (run-time checks, FPE traps) + unit tests + regression
 #   make run        the default deck, then VTK files and a PNG of its history
-#   make verify     convergence studies against exact solutions (tables/plots for the manual)
+#   make verify     convergence studies against exact solutions (tables/plots for the manual),
+#                   gas dynamics and elastic-plastic solids
 #   make bench      3D gas-dynamics benchmark on 1 and 2 ranks with the STREAM triad
 #   make clean
 
@@ -88,6 +89,7 @@ run: deps
 verify: deps
 	$(MAKE) bin/sabre
 	$(PY) tools/verify
+	$(PY) tools/verify_strength
 
 bench: deps
 	$(MAKE) bin/sabre bin/stream_triad
