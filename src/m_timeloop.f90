@@ -190,8 +190,8 @@ contains
         if (failed) exit
         call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, sim%blocks(b)%q, &
           sim%blocks(b)%q0, sim%blocks(b)%rhs)
-        if (sim%has_strength) call plastic_correction(sim%lay, sim%eos, sim%st, sim%dt, &
-          sim%blocks(b)%q)
+        if (sim%has_strength) call plastic_correction(sim%lay, sim%eos, sim%st, &
+          sim%cfg%thermal, sim%dt, sim%blocks(b)%q)
       end do
       call timer_stop(sim%timers, 'fluxes')
       ! a stage whose state has no admissible cell values somewhere ends the step on every

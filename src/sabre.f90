@@ -111,6 +111,15 @@ contains
     call log_line('material: ' // trim(s%cfg%base_material) // ' (eos ' // &
       trim(eos_name(s)) // ')')
     call log_line('effects: strength ' // trim(s%strength_reason))
+    if (s%has_strength .and. s%cfg%thermal) then
+      call log_line('effects: thermal on: temperature from the EOS less elastic and stored ' // &
+        'work; Taylor-Quinney heating; Johnson-Cook softening where the model has it')
+    else if (s%has_strength) then
+      call log_line('effects: thermal off: &physics thermal = .false. or no material needs ' // &
+        'it; the yield stress sees the reference temperature')
+    else
+      call log_line('effects: thermal off: no strength (a gas carries its temperature in e)')
+    end if
     call log_line('effects: heat conduction off, reaction off (not in this version); ' // &
       'interfaces off (no body of another material)')
     if (s%has_strength) then

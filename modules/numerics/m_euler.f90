@@ -392,10 +392,11 @@ contains
   !> is brought back to the yield surface cell by cell. Total energy is untouched: of the
   !> plastic work, the Taylor-Quinney share beta stays in e as heat and 1 - beta is booked as
   !> stored work w_c, which the temperature leaves out.
-  subroutine plastic_correction(lay, eos, st, dt, q)
+  subroutine plastic_correction(lay, eos, st, thermal, dt, q)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st
+    logical, intent(in) :: thermal   !< false: the yield stress sees the reference temperature
     real(wp), intent(in) :: dt
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), dimension(lay%bsize(1)) :: rho, u, v, w, p, e, temp, epsp, dwp
@@ -406,7 +407,11 @@ contains
       do j = 1, lay%bsize(2)
         call primitive_row(eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
           q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
-        call solid_temperature(eos, st, n, rho, e, q(1:n, j, k, :), temp)
+        if (thermal) then
+          call solid_temperature(eos, st, n, rho, e, q(1:n, j, k, :), temp)
+        else
+          temp = st%t_ref
+        end if
         do m = 1, 6
           sdev(:, m) = q(1:n, j, k, i_sxx + m - 1) / rho
         end do
