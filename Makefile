@@ -31,7 +31,9 @@ CHK_FLAGS := $(STD_FLAGS) -O1 -g -Wall -Wextra -Wimplicit-interface -Werror -fch
 MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_config core/m_state \
   strength/m_yield strength/m_plasticity \
   core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_halo \
-  grid/m_boundary eos/m_eos numerics/m_reconstruct numerics/m_flux numerics/m_euler \
+  grid/m_boundary eos/m_eos numerics/m_reconstruct \
+  levelset/m_levelset_derivatives levelset/m_levelset_advect levelset/m_levelset_reinit \
+  levelset/m_levelset_geometry numerics/m_flux numerics/m_euler \
   scene/m_scene strength/m_material_library io/m_deck_text io/m_deck_parse io/m_deck_values \
   io/m_deck_schema io/m_deck_check io/m_deck_write io/m_deck io/m_history io/m_hdf5_io io/m_xdmf
 DRIVER := m_simulation m_output m_timeloop
@@ -39,7 +41,7 @@ SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
-UNIT := test_eos test_reconstruct test_halo test_hdf5 test_strength
+UNIT := test_eos test_reconstruct test_halo test_hdf5 test_strength test_levelset
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
 .PHONY: all deps check run verify bench clean unit

@@ -1,0 +1,162 @@
+!> Reinitialisation of a level set to a signed distance on one block (manual/theory.md
+!> section 6): the pseudo-time equation phi_tau + S(phi0) (|grad phi| - 1) = 0 with the
+!> smoothed sign S = phi0 / sqrt(phi0^2 + |grad phi0|^2 dx^2) (central gradient, dx the
+!> smallest active spacing), |grad phi| from the HJ-WENO5 (or ENO3) one-sided derivatives by
+!> Godunov upwinding (Rouy and Tourin; Sussman, Smereka and Osher 1994), TVD RK3 in tau.
+!> Cells next to the interface (a neighbour along an active axis with phi0 of the opposite
+!> sign) use the sub-cell fix of Russo and Smereka (2000): rhs = -(sgn(phi0) |phi| - D) / dx
+!> with D = phi0 / |grad phi0| and |grad phi0|^2 = sum_d (max(|phi0(+) - phi0(-)| / 2,
+!> |phi0(+) - phi0|, |phi0 - phi0(-)|) / dx_d)^2, which keeps the zero level set in place.
+!> levelset_reinit_step is one RK stage: the caller exchanges the halo of phi before each
+!> stage (phi0 needs a valid 1-deep halo once, for the sign and the interface test).
+!> levelset_reinit is a convenience for a single block with no neighbours: it fills the halo
+!> itself by zero-gradient extrapolation, so it is wrong across block or periodic
+!> boundaries. No narrow band, no MPI, no state.
+module m_levelset_reinit
+  use m_kinds, only: wp
+  use m_reconstruct, only: scheme_weno5
+  use m_levelset_derivatives, only: levelset_one_sided
+  use m_levelset_advect, only: levelset_rk_stage
+  implicit none
+  private
+  public :: levelset_reinit, levelset_reinit_step, levelset_reinit_rhs
+  public :: levelset_halo_zero_gradient
+
+contains
+
+  !> iterations pseudo-time RK3 steps of size cfl * min(dx) on one isolated block.
+  subroutine levelset_reinit(ndim, n, g, dx, phi, iterations, cfl, scheme)
+    integer, intent(in) :: ndim, n(3), g(3), iterations
+    real(wp), intent(in) :: dx(3), cfl
+    real(wp), intent(inout) :: phi(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
+    integer, intent(in), optional :: scheme
+    real(wp), allocatable :: phi0(:, :, :), phi_old(:, :, :)
+    real(wp) :: dtau
+    integer :: it, stage, sch
+    sch = scheme_weno5
+    if (present(scheme)) sch = scheme
+    dtau = cfl * minval(dx(1:ndim))
+    call levelset_halo_zero_gradient(ndim, n, g, phi)
+    phi0 = phi
+    allocate(phi_old(n(1), n(2), n(3)))
+    do it = 1, iterations
+      do stage = 1, 3
+        call levelset_halo_zero_gradient(ndim, n, g, phi)
+        call levelset_reinit_step(ndim, n, g, dx, phi0, stage, dtau, phi, phi_old, sch)
+      end do
+    end do
+    call levelset_halo_zero_gradient(ndim, n, g, phi)
+  end subroutine levelset_reinit
+
+  !> One RK3 stage (1, 2, 3) of the reinitialisation; phi0 is the level set before the
+  !> first iteration, phi_old the RK save space kept by the caller between stages.
+  subroutine levelset_reinit_step(ndim, n, g, dx, phi0, stage, dtau, phi, phi_old, scheme)
+    integer, intent(in) :: ndim, n(3), g(3), stage
+    real(wp), intent(in) :: dx(3), dtau
+    real(wp), intent(in) :: phi0(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
+    real(wp), intent(inout) :: phi(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
+    real(wp), intent(inout) :: phi_old(n(1), n(2), n(3))
+    integer, intent(in), optional :: scheme
+    real(wp), allocatable :: rhs(:, :, :)
+    integer :: sch
+    sch = scheme_weno5
+    if (present(scheme)) sch = scheme
+    allocate(rhs(n(1), n(2), n(3)))
+    call levelset_reinit_rhs(ndim, n, g, dx, phi0, phi, rhs, sch)
+    call levelset_rk_stage(n, g, stage, dtau, phi, phi_old, rhs)
+  end subroutine levelset_reinit_step
+
+  !> rhs = -S(phi0) (|grad phi|_Godunov - 1), or the Russo-Smereka form next to the interface.
+  subroutine levelset_reinit_rhs(ndim, n, g, dx, phi0, phi, rhs, scheme)
+    integer, intent(in) :: ndim, n(3), g(3), scheme
+    real(wp), intent(in) :: dx(3)
+    real(wp), intent(in) :: phi0(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
+    real(wp), intent(in) :: phi(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
+    real(wp), intent(out) :: rhs(n(1), n(2), n(3))
+    real(wp), allocatable :: dm(:, :, :), dp(:, :, :), gpos(:, :, :), gneg(:, :, :)
+    real(wp), parameter :: tiny_grad = 1.0e-30_wp
+    real(wp) :: h, s, c, pm, pp, p, gc2, gs2, delta, a, b
+    integer :: d, i, j, k, e(3)
+    logical :: near
+    allocate(dm(n(1), n(2), n(3)), dp(n(1), n(2), n(3)))
+    allocate(gpos(n(1), n(2), n(3)), gneg(n(1), n(2), n(3)))
+    h = minval(dx(1:ndim))
+    gpos = 0.0_wp
+    gneg = 0.0_wp
+    do d = 1, ndim
+      call levelset_one_sided(scheme, d, n, g, dx, phi, dm, dp)
+      do k = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
+            a = dm(i, j, k)
+            b = dp(i, j, k)
+            ! Godunov: for S > 0 the characteristic leaves the interface, so take the
+            ! backward slope where it rises and the forward slope where it falls
+            gpos(i, j, k) = gpos(i, j, k) + max(max(a, 0.0_wp)**2, min(b, 0.0_wp)**2)
+            gneg(i, j, k) = gneg(i, j, k) + max(min(a, 0.0_wp)**2, max(b, 0.0_wp)**2)
+          end do
+        end do
+      end do
+    end do
+    do k = 1, n(3)
+      do j = 1, n(2)
+        do i = 1, n(1)
+          p = phi0(i, j, k)
+          near = abs(p) <= 0.0_wp
+          gc2 = 0.0_wp
+          gs2 = 0.0_wp
+          do d = 1, ndim
+            e = 0
+            e(d) = 1
+            pm = phi0(i-e(1), j-e(2), k-e(3))
+            pp = phi0(i+e(1), j+e(2), k+e(3))
+            near = near .or. p * pm < 0.0_wp .or. p * pp < 0.0_wp
+            c = 0.5_wp * (pp - pm) / dx(d)
+            gc2 = gc2 + c**2
+            delta = max(0.5_wp * abs(pp - pm), abs(pp - p), abs(p - pm)) / dx(d)
+            gs2 = gs2 + delta**2
+          end do
+          if (near) then
+            ! Russo-Smereka: relax towards the distance implied by phi0 and its slope
+            rhs(i, j, k) = -(sign(1.0_wp, p) * abs(phi(i, j, k)) &
+              - p / sqrt(max(gs2, tiny_grad))) / h
+          else
+            s = p / sqrt(p**2 + gc2 * h**2)
+            if (s >= 0.0_wp) then
+              rhs(i, j, k) = -s * (sqrt(gpos(i, j, k)) - 1.0_wp)
+            else
+              rhs(i, j, k) = -s * (sqrt(gneg(i, j, k)) - 1.0_wp)
+            end if
+          end if
+        end do
+      end do
+    end do
+  end subroutine levelset_reinit_rhs
+
+  !> Copy the outermost interior layer into the halo of every active direction (edges and
+  !> corners included, since each direction copies whole planes of the padded array).
+  subroutine levelset_halo_zero_gradient(ndim, n, g, phi)
+    integer, intent(in) :: ndim, n(3), g(3)
+    real(wp), intent(inout) :: phi(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
+    integer :: l
+    if (ndim >= 1) then
+      do l = 1, g(1)
+        phi(1-l, :, :) = phi(1, :, :)
+        phi(n(1)+l, :, :) = phi(n(1), :, :)
+      end do
+    end if
+    if (ndim >= 2) then
+      do l = 1, g(2)
+        phi(:, 1-l, :) = phi(:, 1, :)
+        phi(:, n(2)+l, :) = phi(:, n(2), :)
+      end do
+    end if
+    if (ndim >= 3) then
+      do l = 1, g(3)
+        phi(:, :, 1-l) = phi(:, :, 1)
+        phi(:, :, n(3)+l) = phi(:, :, n(3))
+      end do
+    end if
+  end subroutine levelset_halo_zero_gradient
+
+end module m_levelset_reinit
