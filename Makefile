@@ -5,6 +5,7 @@
 #   make run        the default deck, then VTK files and a PNG of its history
 #   make verify     convergence studies against exact solutions (tables/plots for the manual),
 #                   gas dynamics and elastic-plastic solids
+#   make accuracy   error against wall time for every scheme choice (work-precision, Pareto)
 #   make bench      3D gas-dynamics benchmark on 1 and 2 ranks with the STREAM triad
 #   make clean
 
@@ -44,7 +45,7 @@ CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_halo test_hdf5 test_strength test_levelset
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
-.PHONY: all deps check run verify bench clean unit
+.PHONY: all deps check run verify bench clean unit accuracy
 all: bin/sabre
 
 bin/sabre: $(REL_OBJ) build/rel/src/sabre.o | bin
@@ -92,6 +93,10 @@ verify: deps
 	$(MAKE) bin/sabre
 	$(PY) tools/verify
 	$(PY) tools/verify_strength
+
+accuracy: deps
+	$(MAKE) bin/sabre
+	$(PY) tools/accuracy
 
 bench: deps
 	$(MAKE) bin/sabre bin/stream_triad
