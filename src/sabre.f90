@@ -124,7 +124,7 @@ contains
       'interfaces off (no body of another material)')
     if (s%has_strength) then
       write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
-        'rho w, rho E, rho S (6), rho eps_p)'
+        'rho w, rho E, rho S (6), rho eps_p, rho w_c)'
     else
       write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
         'rho w, rho E)'
