@@ -13,6 +13,7 @@ module m_output
   use m_xdmf, only: xdmf_write
   use m_comm, only: comm_sum_array, comm_max
   use m_errors, only: stop_collective, log_line
+  use m_deck_text, only: base_name
   implicit none
   private
   public :: output_plot, output_checkpoint, output_restart, history_columns, history_values
@@ -178,18 +179,16 @@ contains
     real(wp), allocatable :: data(:, :, :, :)
     integer, allocatable :: ids(:)
     integer :: m, b, n(3), cells(3), nvar
-    logical :: exists
-    inquire(file=trim(path), exist=exists)
-    call stop_collective('ERROR ' // trim(sim%cfg%deck_file) // ' &run restart: no such ' // &
-      'checkpoint ''' // trim(path) // ''' (typical value ''out/chk_000100.h5'')', exists)
+    ! that the file exists was checked with the deck (deck_prepare_output)
     n = sim%lay%bsize
     allocate(data(n(1), n(2), n(3), size(sim%blocks)))
     ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
     call h5_open_read(f, path)
     call h5_read_attr(f, 'cells', cells)
     call h5_read_attr(f, 'nvar', nvar)
-    call stop_collective('ERROR ' // trim(sim%cfg%deck_file) // ' &run restart: checkpoint ' // &
-      trim(path) // ' is for another grid or state (cells or variables differ from the deck)', &
+    call stop_collective('ERROR ' // base_name(sim%cfg%deck_file) // &
+      ' &run restart: checkpoint ' // trim(path) // ' is for another grid or state ' // &
+      '(cells or variables differ from the deck)', &
       all(cells == sim%lay%cells) .and. nvar == sim%nvar)
     call h5_read_attr(f, 'time', sim%time)
     call h5_read_attr(f, 'step', sim%step)

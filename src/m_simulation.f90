@@ -22,6 +22,7 @@ module m_simulation
   use m_timers, only: timers_t
   use m_comm, only: comm_rank
   use m_errors, only: stop_collective
+  use m_deck_text, only: base_name
   implicit none
   private
   public :: sim_t, sim_setup, sim_paint_initial_state
@@ -63,10 +64,8 @@ contains
     logical :: periodic(3)
     integer :: d, b, id, status, km
     integer, allocatable :: work(:)
-    character(len=8) :: deckname
     type(material_t) :: mat
     sim%cfg = cfg
-    deckname = 'deck'
     do d = 1, 3
       periodic(d) = trim(cfg%bc_lo(d)) == 'periodic'
       sim%bc%lo(d) = bc_from_name(cfg%bc_lo(d))
@@ -199,13 +198,5 @@ contains
     sinc = 1.0_wp
     if (abs(z) > 1.0e-8_wp) sinc = sin(z) / z
   end function sinc
-
-  pure function base_name(path) result(name)
-    character(len=*), intent(in) :: path
-    character(len=len(path)) :: name
-    integer :: k
-    k = index(path, '/', back=.true.)
-    name = path(k + 1:)
-  end function base_name
 
 end module m_simulation

@@ -45,35 +45,50 @@ contains
     end select
   end function bc_from_name
 
+  !> What lies beyond side s (-1 low, +1 high) of direction d of block id at time t:
+  !> kind = 0 when a neighbour block fills the halo, else the condition (the face of an
+  !> inactive obstacle block is rigid), with the wall's normal velocity for 'velocity' sides.
+  subroutine side_condition(lay, bc, id, d, s, time, kind, vwall)
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    integer, intent(in) :: id, d, s
+    real(wp), intent(in) :: time
+    integer, intent(out) :: kind
+    real(wp), intent(out) :: vwall
+    integer :: nbr, dir(3)
+    dir = 0
+    dir(d) = s
+    nbr = block_neighbor(lay, id, dir)
+    vwall = 0.0_wp
+    if (nbr > 0) then
+      kind = 0
+    else if (nbr == wall_neighbor) then
+      kind = bc_rigid
+    else if (s < 0) then
+      kind = bc%lo(d)
+    else
+      kind = bc%hi(d)
+    end if
+    if (kind == bc_velocity) then
+      vwall = bc%velocity(d)
+      if (bc%rise_time > 0.0_wp) vwall = vwall * min(1.0_wp, time / bc%rise_time)
+    end if
+  end subroutine side_condition
+
   subroutine boundary_apply(lay, bc, blocks, nvar, time)
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
     type(block_t), intent(inout) :: blocks(:)
     integer, intent(in) :: nvar
     real(wp), intent(in) :: time
-    integer :: b, d, s, nbr, dir(3), kind
+    integer :: b, d, s, kind
     real(wp) :: vwall
     do b = 1, size(blocks)
       call clamp_fill(lay, blocks(b), nvar)
       do d = 1, lay%ndim
         do s = -1, 1, 2
-          dir = 0
-          dir(d) = s
-          nbr = block_neighbor(lay, blocks(b)%id, dir)
-          if (nbr > 0) cycle
-          if (nbr == wall_neighbor) then
-            kind = bc_rigid
-          else if (s < 0) then
-            kind = bc%lo(d)
-          else
-            kind = bc%hi(d)
-          end if
-          vwall = 0.0_wp
-          if (kind == bc_velocity) then
-            vwall = bc%velocity(d)
-            if (bc%rise_time > 0.0_wp) vwall = vwall * min(1.0_wp, time / bc%rise_time)
-          end if
-          call face_fill(lay, blocks(b)%q, nvar, d, s, kind, vwall)
+          call side_condition(lay, bc, blocks(b)%id, d, s, time, kind, vwall)
+          if (kind /= 0) call face_fill(lay, blocks(b)%q, nvar, d, s, kind, vwall)
         end do
       end do
     end do
@@ -91,27 +106,13 @@ contains
     real(wp), intent(in) :: time
     logical, intent(out) :: wall(2, 3)
     real(wp), intent(out) :: vwall(2, 3)
-    integer :: d, s, nbr, dir(3), kind
+    integer :: d, s, kind
     wall = .false.
     vwall = 0.0_wp
     do d = 1, lay%ndim
       do s = 1, 2
-        dir = 0
-        dir(d) = 2 * s - 3
-        nbr = block_neighbor(lay, blk%id, dir)
-        if (nbr > 0) cycle
-        if (nbr == wall_neighbor) then
-          kind = bc_rigid
-        else if (s == 1) then
-          kind = bc%lo(d)
-        else
-          kind = bc%hi(d)
-        end if
+        call side_condition(lay, bc, blk%id, d, 2 * s - 3, time, kind, vwall(s, d))
         wall(s, d) = kind == bc_symmetry .or. kind == bc_rigid .or. kind == bc_velocity
-        if (kind == bc_velocity) then
-          vwall(s, d) = bc%velocity(d)
-          if (bc%rise_time > 0.0_wp) vwall(s, d) = vwall(s, d) * min(1.0_wp, time / bc%rise_time)
-        end if
       end do
     end do
   end subroutine boundary_walls

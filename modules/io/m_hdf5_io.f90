@@ -2,10 +2,10 @@
 !> of Fortran shape (cells(1), cells(2), cells(3)) (h5py sees (nz, ny, nx)); 1D and 2D runs
 !> still use 3D datasets with size 1 in the unused directions. Files are opened with the
 !> MPI-IO driver on the world communicator (its handle from m_comm); each rank writes and
-!> reads the interior cells of its own blocks as hyperslabs with independent transfers, so blocks may come back to a different
-!> owner than the one that wrote them (restart on another rank count). Every public routine
-!> is collective: every rank calls it, even one holding no block, because HDF5 creates files,
-!> groups, datasets and attributes collectively. Attributes and text datasets store rank 0's
+!> reads the interior cells of its own blocks as hyperslabs with independent transfers, so
+!> blocks may come back to a different owner than the one that wrote them (restart on
+!> another rank count). Every public routine is collective: every rank calls it, even one
+!> holding no block, because HDF5 creates files, groups, datasets and attributes collectively. Attributes and text datasets store rank 0's
 !> value. Inactive blocks are never written and read back as 0 (the datasets' fill value).
 !> An HDF5 failure stops the run through fatal with the file and object named. This module
 !> knows nothing of physics or of which fields exist; the XDMF companion file is m_xdmf's.

@@ -122,30 +122,29 @@ contains
     integer, intent(in) :: nf, nv
     real(wp), intent(in) :: wl(nf, nv), wr(nf, nv), el(nf), er(nf), cl(nf), cr(nf)
     real(wp), intent(out) :: f(nf, nv)
-    real(wp) :: a, ml, mr, enl, enr
+    real(wp) :: a(nf), ml, mr, enl, enr
     integer :: i, m
+    a = max(abs(wl(:, 2)) + cl, abs(wr(:, 2)) + cr)
     do i = 1, nf
-      a = max(abs(wl(i, 2)) + cl(i), abs(wr(i, 2)) + cr(i))
       ml = wl(i, 1) * wl(i, 2)
       mr = wr(i, 1) * wr(i, 2)
       enl = wl(i, 1) * (el(i) + 0.5_wp * (wl(i, 2)**2 + wl(i, 3)**2 + wl(i, 4)**2))
       enr = wr(i, 1) * (er(i) + 0.5_wp * (wr(i, 2)**2 + wr(i, 3)**2 + wr(i, 4)**2))
-      f(i, 1) = 0.5_wp * (ml + mr - a * (wr(i, 1) - wl(i, 1)))
+      f(i, 1) = 0.5_wp * (ml + mr - a(i) * (wr(i, 1) - wl(i, 1)))
       f(i, 2) = 0.5_wp * (ml * wl(i, 2) + wl(i, 5) - wl(i, 6) + mr * wr(i, 2) + wr(i, 5) &
-        - wr(i, 6) - a * (wr(i, 1) * wr(i, 2) - wl(i, 1) * wl(i, 2)))
+        - wr(i, 6) - a(i) * (wr(i, 1) * wr(i, 2) - wl(i, 1) * wl(i, 2)))
       f(i, 3) = 0.5_wp * (ml * wl(i, 3) - wl(i, 7) + mr * wr(i, 3) - wr(i, 7) &
-        - a * (wr(i, 1) * wr(i, 3) - wl(i, 1) * wl(i, 3)))
+        - a(i) * (wr(i, 1) * wr(i, 3) - wl(i, 1) * wl(i, 3)))
       f(i, 4) = 0.5_wp * (ml * wl(i, 4) - wl(i, 8) + mr * wr(i, 4) - wr(i, 8) &
-        - a * (wr(i, 1) * wr(i, 4) - wl(i, 1) * wl(i, 4)))
+        - a(i) * (wr(i, 1) * wr(i, 4) - wl(i, 1) * wl(i, 4)))
       f(i, 5) = 0.5_wp * ((enl + wl(i, 5) - wl(i, 6)) * wl(i, 2) - wl(i, 7) * wl(i, 3) &
         - wl(i, 8) * wl(i, 4) + (enr + wr(i, 5) - wr(i, 6)) * wr(i, 2) &
-        - wr(i, 7) * wr(i, 3) - wr(i, 8) * wr(i, 4) - a * (enr - enl))
+        - wr(i, 7) * wr(i, 3) - wr(i, 8) * wr(i, 4) - a(i) * (enr - enl))
     end do
     do m = 6, nv
       do i = 1, nf
         f(i, m) = 0.5_wp * (wl(i, 1) * wl(i, m) * wl(i, 2) + wr(i, 1) * wr(i, m) * wr(i, 2) &
-          - max(abs(wl(i, 2)) + cl(i), abs(wr(i, 2)) + cr(i)) &
-          * (wr(i, 1) * wr(i, m) - wl(i, 1) * wl(i, m)))
+          - a(i) * (wr(i, 1) * wr(i, m) - wl(i, 1) * wl(i, m)))
       end do
     end do
   end subroutine flux_llf_solid

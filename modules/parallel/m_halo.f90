@@ -127,8 +127,6 @@ contains
               pc%key2 = kdir
               plan%partner(r)%recv = [plan%partner(r)%recv, pc]
               ! what the neighbour needs from this block: its halo in direction -dir
-              pc%lo = pc%slo
-              pc%hi = pc%shi
               call halo_region(lay, dir, 's', pc%lo, pc%hi)
               pc%key1 = nbr
               pc%key2 = 1 + (1 - di) + 3 * (1 - dj) + 9 * (1 - dk)
