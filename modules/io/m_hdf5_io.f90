@@ -6,7 +6,8 @@
 !> blocks may come back to a different owner than the one that wrote them (restart on
 !> another rank count). Every public routine is collective: every rank calls it, even one
 !> holding no block, because HDF5 creates files, groups, datasets and attributes
-!> collectively. Attributes and text datasets store rank 0's value. Inactive blocks are never written and read back as 0 (the datasets' fill value).
+!> collectively. Attributes and text datasets store rank 0's value. Inactive blocks are
+!> never written and read back as 0 (the datasets' fill value).
 !> An HDF5 failure stops the run through fatal with the file and object named. This module
 !> knows nothing of physics or of which fields exist; the XDMF companion file is m_xdmf's.
 module m_hdf5_io
