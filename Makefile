@@ -34,7 +34,8 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_config core/m_state
   core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_halo \
   grid/m_boundary eos/m_eos numerics/m_reconstruct \
   levelset/m_levelset_derivatives levelset/m_levelset_advect levelset/m_levelset_reinit \
-  levelset/m_levelset_geometry numerics/m_flux numerics/m_euler \
+  levelset/m_levelset_geometry levelset/m_levelset_bodies numerics/m_flux numerics/m_euler \
+  gfm/m_gfm_probe gfm/m_gfm_stress gfm/m_gfm_mvi gfm/m_gfm_mri gfm/m_gfm \
   scene/m_scene strength/m_material_library io/m_deck_text io/m_deck_parse io/m_deck_values \
   io/m_deck_schema io/m_deck_check io/m_deck_write io/m_deck io/m_history io/m_hdf5_io io/m_xdmf
 DRIVER := m_simulation m_output m_timeloop
@@ -42,7 +43,7 @@ SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
-UNIT := test_eos test_reconstruct test_halo test_hdf5 test_strength test_levelset
+UNIT := test_eos test_reconstruct test_halo test_hdf5 test_strength test_levelset test_gfm
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
 .PHONY: all deps check run verify bench clean unit accuracy

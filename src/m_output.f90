@@ -14,17 +14,21 @@ module m_output
   use m_comm, only: comm_sum_array, comm_max
   use m_errors, only: stop_collective, log_line
   use m_deck_text, only: base_name
+  use m_levelset_bodies, only: ls_region, ls_material
+  use m_scene, only: cell_centre
   implicit none
   private
   public :: output_plot, output_checkpoint, output_restart, history_columns, history_values
   public :: step_file_name
 
-  character(len=name_len), parameter :: state_names(13) = [character(len=name_len) :: &
-    '/state/q1', '/state/q2', '/state/q3', '/state/q4', '/state/q5', '/state/q6', &
-    '/state/q7', '/state/q8', '/state/q9', '/state/q10', '/state/q11', '/state/q12', &
-    '/state/q13']
-
 contains
+
+  !> Name of state variable m in a checkpoint: /state/q<m> (flow variables, then level sets).
+  pure function state_names(m) result(name)
+    integer, intent(in) :: m
+    character(len=name_len) :: name
+    write(name, '(a,i0)') '/state/q', m
+  end function state_names
 
   function step_file_name(sim, prefix, step, ext) result(path)
     type(sim_t), intent(in) :: sim
@@ -39,28 +43,45 @@ contains
     type(sim_t), intent(inout) :: sim
     type(h5_file_t) :: f
     character(len=path_len) :: path, xmf
+    character(len=name_len), allocatable :: names(:)
     real(wp), allocatable :: data(:, :, :, :)
     integer, allocatable :: ids(:)
-    integer :: m, k
+    integer :: m, k, l
     if (sim%last_plot_step == sim%step) return
     path = step_file_name(sim, 'plot', sim%step, '.h5')
     allocate(data(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3), size(sim%blocks)))
     ids = [(sim%blocks(k)%id, k = 1, size(sim%blocks))]
+    ! the deck's fields, then the level set of every body (phi_<body>, negative inside)
+    names = [sim%cfg%fields(1:sim%cfg%n_fields), &
+      (name_of_ls(sim%ls%name(l)), l = 1, sim%ls%n)]
     call h5_create(f, path, sim%lay)
     call h5_write_attr(f, 'time', sim%time)
     call h5_write_attr(f, 'step', sim%step)
     call h5_write_attr(f, 'title', trim(sim%cfg%title))
-    do m = 1, sim%cfg%n_fields
-      call field_values(sim, sim%cfg%fields(m), data)
-      call h5_write_field(f, '/fields/' // trim(sim%cfg%fields(m)), sim%lay, ids, data)
+    do m = 1, size(names)
+      if (m <= sim%cfg%n_fields) then
+        call field_values(sim, names(m), data)
+      else
+        do k = 1, size(sim%blocks)
+          data(:, :, :, k) = sim%blocks(k)%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), &
+            1:sim%lay%bsize(3), sim%nflow + m - sim%cfg%n_fields)
+        end do
+      end if
+      call h5_write_field(f, '/fields/' // trim(names(m)), sim%lay, ids, data)
     end do
     call h5_close(f)
     k = index(path, '/', back=.true.)
     xmf = path(1:len_trim(path) - 3) // '.xmf'
-    call xdmf_write(xmf, path(k + 1:), sim%lay, sim%cfg%fields(1:sim%cfg%n_fields), sim%time)
+    call xdmf_write(xmf, path(k + 1:), sim%lay, names, sim%time)
     sim%plot_count = sim%plot_count + 1
     sim%last_plot_step = sim%step
   end subroutine output_plot
+
+  pure function name_of_ls(body) result(name)
+    character(len=*), intent(in) :: body
+    character(len=name_len) :: name
+    name = 'phi_' // trim(body)
+  end function name_of_ls
 
   !> One named field over the interiors of this rank's blocks.
   subroutine field_values(sim, name, data)
@@ -206,20 +227,33 @@ contains
     sim%restart_step = sim%step
   end subroutine output_restart
 
-  function history_columns() result(cols)
-    character(len=name_len) :: cols(15)
+  !> Columns of history.csv: totals over the real cells, maxima, fallback counters, and for
+  !> each body of the flowing material its mass, volume and bounding box (from its level set).
+  function history_columns(sim) result(cols)
+    type(sim_t), intent(in) :: sim
+    character(len=name_len), allocatable :: cols(:)
+    character(len=4), parameter :: item(8) = [character(len=4) :: 'mass', 'vol', 'xmin', &
+      'xmax', 'ymin', 'ymax', 'zmin', 'zmax']
+    integer :: l, k
     cols = [character(len=name_len) :: 'step', 'time', 'dt', 'mass', 'mom_x', 'mom_y', &
       'mom_z', 'kinetic', 'internal', 'total_energy', 'max_p', 'max_T', 'max_eps_p', &
       'fallback_faces', 'first_order_steps']
+    do l = 1, sim%ls%n
+      if (sim%ls%kind(l) /= ls_material) cycle
+      cols = [character(len=name_len) :: cols, &
+        (trim(sim%ls%name(l)) // '_' // trim(item(k)), k = 1, 8)]
+    end do
   end function history_columns
 
-  !> The history row after 'step': totals (volume-weighted; 2 pi r in axisymmetry) and maxima.
+  !> The history row after 'step': totals over the real cells (volume-weighted; 2 pi r in
+  !> axisymmetry), maxima, and the bodies' columns.
   function history_values(sim) result(v)
     type(sim_t), intent(in) :: sim
-    real(wp) :: v(14)
+    real(wp), allocatable :: v(:)
     real(wp) :: tot(8), vol, r, pmax, tmax, epmax
-    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, vv, w, p, e, temp, dv
-    integer :: b, i, j, k, n
+    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, vv, w, p, e, temp, dv, msk
+    integer :: b, i, j, k, n, l, nb
+    real(wp), allocatable :: body(:, :)
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
     n = sim%lay%bsize(1)
     tot = 0.0_wp
@@ -227,6 +261,7 @@ contains
     tmax = -huge(1.0_wp)
     epmax = 0.0_wp
     vol = product(sim%lay%dx(1:sim%lay%ndim))
+    msk = 1.0_wp
     do b = 1, size(sim%blocks)
       associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
         do i = 1, n
@@ -245,16 +280,18 @@ contains
             else
               call eos_temperature(sim%eos, n, rho, e, temp)
             end if
-            tot(1) = tot(1) + sum(dv * rho)
-            tot(2) = tot(2) + sum(dv * q(1:n, j, k, i_mx))
-            tot(3) = tot(3) + sum(dv * q(1:n, j, k, i_my))
-            tot(4) = tot(4) + sum(dv * q(1:n, j, k, i_mz))
-            tot(5) = tot(5) + sum(dv * 0.5_wp * rho * (u**2 + vv**2 + w**2))
-            tot(6) = tot(6) + sum(dv * rho * e)
-            tot(7) = tot(7) + sum(dv * q(1:n, j, k, i_en))
-            pmax = max(pmax, maxval(p))
-            tmax = max(tmax, maxval(temp))
-            if (sim%has_strength) epmax = max(epmax, maxval(q(1:n, j, k, i_epsp) / rho))
+            if (sim%ls%n > 0) msk = merge(1.0_wp, 0.0_wp, real_cells(sim, q(1:n, j, k, :)))
+            tot(1) = tot(1) + sum(msk * dv * rho)
+            tot(2) = tot(2) + sum(msk * dv * q(1:n, j, k, i_mx))
+            tot(3) = tot(3) + sum(msk * dv * q(1:n, j, k, i_my))
+            tot(4) = tot(4) + sum(msk * dv * q(1:n, j, k, i_mz))
+            tot(5) = tot(5) + sum(msk * dv * 0.5_wp * rho * (u**2 + vv**2 + w**2))
+            tot(6) = tot(6) + sum(msk * dv * rho * e)
+            tot(7) = tot(7) + sum(msk * dv * q(1:n, j, k, i_en))
+            pmax = max(pmax, maxval(p, msk > 0.0_wp))
+            tmax = max(tmax, maxval(temp, msk > 0.0_wp))
+            if (sim%has_strength) epmax = max(epmax, &
+              maxval(q(1:n, j, k, i_epsp) / rho, msk > 0.0_wp))
           end do
         end do
       end associate
@@ -263,6 +300,85 @@ contains
     call comm_sum_array(tot(1:7))
     v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), comm_max(epmax), tot(8), &
       real(sim%first_order_steps, wp)]
+    nb = count(sim%ls%kind == ls_material)
+    if (nb == 0) return
+    allocate(body(8, nb))
+    nb = 0
+    do l = 1, sim%ls%n
+      if (sim%ls%kind(l) /= ls_material) cycle
+      nb = nb + 1
+      body(:, nb) = body_measures(sim, l)
+    end do
+    v = [v, reshape(body, [8 * nb])]
   end function history_values
+
+  !> Which cells of a row are real (in the computed region).
+  function real_cells(sim, qrow) result(isreal)
+    type(sim_t), intent(in) :: sim
+    real(wp), intent(in) :: qrow(:, :)
+    logical :: isreal(size(qrow, 1))
+    real(wp) :: bigphi(size(qrow, 1), 1, 1)
+    integer :: owner(size(qrow, 1), 1, 1)
+    call ls_region(sim%ls, [1, 1, 1], [size(qrow, 1), 1, 1], &
+      reshape(qrow(:, sim%nflow + 1:sim%nvar), [size(qrow, 1), 1, 1, sim%ls%n]), bigphi, owner)
+    isreal = bigphi(:, 1, 1) < 0.0_wp
+  end function real_cells
+
+  !> Mass (real cells inside the body), volume (cells with phi < 0, 2 pi r weighted in
+  !> axisymmetry) and bounding box of level set l; the box edges are the zero crossings of
+  !> phi between neighbouring cells (linear interpolation), so they move smoothly.
+  function body_measures(sim, l) result(m)
+    type(sim_t), intent(in) :: sim
+    integer, intent(in) :: l
+    real(wp) :: m(8)
+    real(wp) :: x(3), vol, dv, lo(3), hi(3), t, edge
+    integer :: b, i, j, k, d, c(3), iv
+    real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
+    iv = sim%nflow + l
+    vol = product(sim%lay%dx(1:sim%lay%ndim))
+    m(1:2) = 0.0_wp
+    lo = huge(1.0_wp)
+    hi = -huge(1.0_wp)
+    do b = 1, size(sim%blocks)
+      associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
+        do k = 1, sim%lay%bsize(3)
+          do j = 1, sim%lay%bsize(2)
+            do i = 1, sim%lay%bsize(1)
+              if (.not. q(i, j, k, iv) < 0.0_wp) cycle
+              x = cell_centre(sim%lay, off, i, j, k)
+              dv = vol
+              if (sim%lay%axisymmetric) dv = vol * two_pi * x(1)
+              m(2) = m(2) + dv
+              if (all(real_cells(sim, reshape(q(i, j, k, :), [1, sim%nvar])))) &
+                m(1) = m(1) + dv * q(i, j, k, i_rho)
+              do d = 1, sim%lay%ndim
+                lo(d) = min(lo(d), x(d))
+                hi(d) = max(hi(d), x(d))
+                c = [i, j, k]
+                c(d) = c(d) + 1
+                t = q(c(1), c(2), c(3), iv)
+                if (t >= 0.0_wp) then
+                  edge = x(d) + sim%lay%dx(d) * q(i, j, k, iv) / (q(i, j, k, iv) - t)
+                  hi(d) = max(hi(d), edge)
+                end if
+                c(d) = c(d) - 2
+                t = q(c(1), c(2), c(3), iv)
+                if (t >= 0.0_wp) then
+                  edge = x(d) - sim%lay%dx(d) * q(i, j, k, iv) / (q(i, j, k, iv) - t)
+                  lo(d) = min(lo(d), edge)
+                end if
+              end do
+            end do
+          end do
+        end do
+      end associate
+    end do
+    call comm_sum_array(m(1:2))
+    do d = 1, 3
+      m(1 + 2 * d) = -comm_max(-lo(d))
+      m(2 + 2 * d) = comm_max(hi(d))
+      if (d > sim%lay%ndim) m(1 + 2 * d:2 + 2 * d) = 0.0_wp
+    end do
+  end function body_measures
 
 end module m_output

@@ -16,7 +16,9 @@ module m_simulation
   use m_euler, only: euler_work_t, euler_work_init
   use m_reconstruct, only: scheme_from_name
   use m_flux, only: flux_from_name
-  use m_scene, only: inside_body, cell_centre, rigid_block_status
+  use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status
+  use m_levelset_bodies, only: ls_set_t, ls_material, ls_void, ls_rigid
+  use m_gfm, only: gfm_work_t, gfm_work_init, gfm_counts_t, probe_from_name
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid
   use m_yield, only: strength_t, strength_from_material, strength_none
   use m_timers, only: timers_t
@@ -35,7 +37,17 @@ module m_simulation
     type(euler_work_t) :: work
     type(eos_t) :: eos
     type(bc_kind_t) :: bc
-    integer :: nvar = n_euler
+    integer :: nvar = n_euler          !< flow variables followed by the level sets
+    integer :: nflow = n_euler         !< flow variables: n_euler, or n_solid with strength
+    character(len=name_len) :: material = ''   !< the flowing material
+    type(ls_set_t) :: ls               !< level-set bodies (m_levelset_bodies)
+    type(gfm_work_t) :: gwork
+    type(gfm_counts_t) :: gcount
+    integer :: probe = 3
+    real(wp) :: rest(2) = 0.0_wp       !< rest density and pressure of non-computed cells
+    real(wp), allocatable :: vel(:, :, :, :)   !< level-set advection velocity (padded block)
+    real(wp), allocatable :: ls_rhs(:, :, :)
+    logical, allocatable :: dormant(:)         !< block entirely beyond the ghost band
     logical :: has_strength = .false.  !< the state carries rho S and rho eps_p
     real(wp) :: shear = 0.0_wp         !< shear modulus of the material (0: fluid)
     type(strength_t) :: st
@@ -62,7 +74,7 @@ contains
     type(config_t), intent(in) :: cfg
     type(sim_t), intent(inout) :: sim
     logical :: periodic(3)
-    integer :: d, b, id, status, km
+    integer :: d, km, lo(3), hi(3)
     integer, allocatable :: work(:)
     type(material_t) :: mat
     sim%cfg = cfg
@@ -75,32 +87,13 @@ contains
     sim%bc%rise_time = cfg%bc_rise_time
     call layout_init(sim%lay, cfg%ndim, cfg%cells, cfg%block, cfg%lo, cfg%hi, periodic, &
       trim(cfg%geometry) == 'axisymmetric')
-    ! bodies: rigid obstacles switch off whole blocks; other materials wait for interfaces
-    do b = 1, cfg%n_bodies
-      associate (body => cfg%bodies(b))
-        if (trim(body%material) == 'rigid') then
-          do id = 1, sim%lay%nblocks
-            status = rigid_block_status(sim%lay, id, body)
-            call stop_collective('ERROR ' // trim(base_name(cfg%deck_file)) // ' &body ' // &
-              trim(body%name) // ': a rigid body must cover whole blocks in this version ' // &
-              '(align its faces with block boundaries, or use smaller blocks)', status /= 1)
-            if (status == 2) sim%lay%active(id) = .false.
-          end do
-        else if (body%material /= cfg%base_material) then
-          call stop_collective('ERROR ' // trim(base_name(cfg%deck_file)) // ' &body ' // &
-            trim(body%name) // ' material: bodies of a material other than the base ' // &
-            'material (' // trim(cfg%base_material) // ') need interfaces, which this ' // &
-            'version does not have (typical value material = ''' // &
-            trim(cfg%base_material) // ''')', .false.)
-        end if
-      end associate
-    end do
-    km = material_index(cfg, cfg%base_material)
+    call level_set_bodies(cfg, sim)
+    km = material_index(cfg, sim%material)
     mat = cfg%materials(km)
     sim%st = strength_from_material(mat)
     sim%has_strength = cfg%strength .and. sim%st%model /= strength_none
     if (sim%has_strength) then
-      sim%nvar = n_solid
+      sim%nflow = n_solid
       sim%shear = sim%st%g
       sim%strength_reason = 'on: material ' // trim(mat%name) // ' has ' // &
         trim(mat%strength_model)
@@ -110,17 +103,119 @@ contains
     else
       sim%strength_reason = 'off: material ' // trim(mat%name) // ' has no strength'
     end if
+    sim%nvar = sim%nflow + sim%ls%n
     allocate(work(sim%lay%nblocks))
     work = product(sim%lay%bsize)
     call partition_blocks(sim%lay, work)
     call blocks_allocate(sim%lay, comm_rank(), sim%nvar, sim%blocks)
     call halo_plan_build(sim%lay, sim%blocks, sim%plan)
-    call euler_work_init(sim%lay, sim%nvar, sim%work)
+    call euler_work_init(sim%lay, sim%nflow, sim%work)
     sim%eos = eos_of(mat)
     call eos_prepare(sim%eos)
+    sim%rest = [mat%rho0, mat%p0]
+    if (sim%ls%n > 0) then
+      call gfm_work_init(sim%lay, sim%nflow, sim%gwork)
+      lo = 1 - sim%lay%ng
+      hi = sim%lay%bsize + sim%lay%ng
+      allocate(sim%vel(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), 3))
+      allocate(sim%ls_rhs(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
+      allocate(sim%dormant(size(sim%blocks)))
+      sim%dormant = .false.
+      sim%probe = probe_from_name(cfg%gfm_probe)
+    end if
     sim%scheme = scheme_from_name(cfg%scheme)
     sim%flux = flux_from_name(cfg%flux)
   end subroutine sim_setup
+
+  !> Which bodies carry level sets, and which material flows (manual/interfaces.md section 1):
+  !> the base material, or when the base is void the one material of the material bodies.
+  !> Every void and rigid body, and every body of a material other than the base, gets a
+  !> level set, except a resting rigid body made of whole blocks (a step, a wall segment),
+  !> whose blocks are switched off so that their faces are exact walls; blocks that lie deep
+  !> inside a rigid body (farther than the band and the halo from its surface) are not
+  !> computed at all.
+  subroutine level_set_bodies(cfg, sim)
+    type(config_t), intent(in) :: cfg
+    type(sim_t), intent(inout) :: sim
+    integer :: b, n, id, i, j, k, off(3)
+    real(wp) :: deep, dmax
+    logical, allocatable :: whole(:)
+    character(len=:), allocatable :: base
+    base = trim(base_name(cfg%deck_file))
+    sim%material = cfg%base_material
+    if (cfg%base_material == 'void') then
+      sim%material = ''
+      do b = 1, cfg%n_bodies
+        if (cfg%bodies(b)%material == 'void' .or. cfg%bodies(b)%material == 'rigid') cycle
+        sim%material = cfg%bodies(b)%material
+        exit
+      end do
+      call stop_collective('ERROR ' // base // ' &domain base_material: with a void base ' // &
+        'some &body must be of a material', len_trim(sim%material) > 0)
+    end if
+    sim%ls%base_flows = cfg%base_material /= 'void'
+    allocate(whole(cfg%n_bodies))
+    whole = .false.
+    do b = 1, cfg%n_bodies
+      associate (body => cfg%bodies(b))
+        if (body%material == cfg%base_material) cycle
+        if (body%material /= 'void' .and. body%material /= 'rigid') &
+          call stop_collective('ERROR ' // base // ' &body ' // trim(body%name) // &
+          ' material: bodies of two different materials (' // trim(sim%material) // ', ' &
+          // trim(body%material) // ') need the material-material interface (MMI), ' // &
+          'which this version does not have (typical value material = ''' // &
+          trim(sim%material) // ''')', body%material == sim%material)
+        ! a resting rigid body made of whole blocks: those blocks are switched off and their
+        ! faces are exact walls of the neighbouring blocks (m_boundary); no level set
+        if (body%material == 'rigid' .and. .not. any(abs(body%velocity) > 0.0_wp)) &
+          whole(b) = all([(rigid_block_status(sim%lay, id, body) /= 1, id = 1, &
+          sim%lay%nblocks)])
+        if (.not. whole(b)) cycle
+        do id = 1, sim%lay%nblocks
+          if (rigid_block_status(sim%lay, id, body) == 2) sim%lay%active(id) = .false.
+        end do
+      end associate
+    end do
+    n = count([(cfg%bodies(b)%material /= cfg%base_material .and. .not. whole(b), &
+      b = 1, cfg%n_bodies)])
+    sim%ls%n = n
+    allocate(sim%ls%kind(n), sim%ls%body(n), sim%ls%name(n), sim%ls%velocity(3, n))
+    n = 0
+    do b = 1, cfg%n_bodies
+      associate (body => cfg%bodies(b))
+        if (body%material == cfg%base_material .or. whole(b)) cycle
+        n = n + 1
+        sim%ls%body(n) = b
+        sim%ls%name(n) = body%name
+        sim%ls%velocity(:, n) = body%velocity
+        select case (trim(body%material))
+        case ('void')
+          sim%ls%kind(n) = ls_void
+        case ('rigid')
+          sim%ls%kind(n) = ls_rigid
+        case default
+          sim%ls%kind(n) = ls_material
+        end select
+        if (sim%ls%kind(n) /= ls_rigid .or. any(abs(body%velocity) > 0.0_wp)) cycle
+        ! blocks deep inside a resting rigid body are not computed
+        deep = -(real(cfg%band + maxval(sim%lay%ng), wp) + 1.0_wp) &
+          * maxval(sim%lay%dx(1:sim%lay%ndim))
+        do id = 1, sim%lay%nblocks
+          off = block_offset(sim%lay, id)
+          dmax = -huge(1.0_wp)
+          do k = 1, sim%lay%bsize(3)
+            do j = 1, sim%lay%bsize(2)
+              do i = 1, sim%lay%bsize(1)
+                dmax = max(dmax, body_distance(body, sim%lay%ndim, &
+                  cell_centre(sim%lay, off, i, j, k)))
+              end do
+            end do
+          end do
+          if (dmax < deep) sim%lay%active(id) = .false.
+        end do
+      end associate
+    end do
+  end subroutine level_set_bodies
 
   function eos_of(mat) result(eos)
     type(material_t), intent(in) :: mat
@@ -148,15 +243,17 @@ contains
     if (is_set(mat%poly_b)) eos%poly_b = mat%poly_b
   end function eos_of
 
-  !> Initial state: the base material at its reference state at rest, then every body of
-  !> the base material in deck order.
+  !> Initial state: the flowing material at its reference state at rest, then every body of
+  !> that material in deck order; the level sets start as the bodies' signed distances, and
+  !> cells outside the computed region hold the rest state (the first stage's ghost fill
+  !> replaces it near the interfaces).
   subroutine sim_paint_initial_state(sim)
     type(sim_t), intent(inout) :: sim
-    integer :: b, i, j, k, nb, km
-    real(wp) :: x(3), rho, vel(3), p, e(1)
+    integer :: b, i, j, k, nb, km, l
+    real(wp) :: x(3), rho, vel(3), p, e(1), bigphi
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
     type(material_t) :: mat
-    km = material_index(sim%cfg, sim%cfg%base_material)
+    km = material_index(sim%cfg, sim%material)
     mat = sim%cfg%materials(km)
     do b = 1, size(sim%blocks)
       associate (blk => sim%blocks(b))
@@ -169,7 +266,7 @@ contains
               vel = 0.0_wp
               do nb = 1, sim%cfg%n_bodies
                 associate (body => sim%cfg%bodies(nb))
-                  if (trim(body%material) == 'rigid') cycle
+                  if (body%material /= sim%material) cycle
                   if (.not. inside_body(body, sim%lay%ndim, x)) cycle
                   ! the exact cell average of the sinusoid, so that smooth data start at
                   ! the order of the scheme rather than at second order
@@ -180,6 +277,22 @@ contains
                   vel = body%velocity
                 end associate
               end do
+              bigphi = merge(-huge(1.0_wp), huge(1.0_wp), sim%ls%base_flows)
+              do l = 1, sim%ls%n
+                blk%q(i, j, k, sim%nflow + l) = body_distance(sim%cfg%bodies(sim%ls%body(l)), &
+                  sim%lay%ndim, x)
+                if (sim%ls%kind(l) == ls_material .and. .not. sim%ls%base_flows) &
+                  bigphi = min(bigphi, blk%q(i, j, k, sim%nflow + l))
+              end do
+              do l = 1, sim%ls%n
+                if (sim%ls%kind(l) /= ls_material) &
+                  bigphi = max(bigphi, -blk%q(i, j, k, sim%nflow + l))
+              end do
+              if (bigphi >= 0.0_wp) then
+                rho = sim%rest(1)
+                p = sim%rest(2)
+                vel = 0.0_wp
+              end if
               call eos_energy(sim%eos, 1, [rho], [p], e)
               blk%q(i, j, k, i_rho) = rho
               blk%q(i, j, k, i_mx) = rho * vel(1)

@@ -16,9 +16,19 @@ module m_timeloop
   use m_comm, only: comm_max, comm_any, comm_sum, comm_wtime, comm_bcast, comm_is_root
   use m_errors, only: stop_collective, log_line
   use m_timers, only: timer_start, timer_stop
+  use m_gfm, only: gfm_fill, gfm_rest
+  use m_levelset_bodies, only: ls_rigid, ls_material, ls_void
+  use m_levelset_advect, only: levelset_advect_rhs
+  use m_levelset_reinit, only: levelset_reinit_step
+  use m_scene, only: body_distance, cell_centre
+  use m_state, only: i_rho, i_mx
   implicit none
   private
   public :: run_time_loop
+
+  !> Depth of the ghost band in cells: the reach (3) of the ENO3 and WENO5 stencils of a real
+  !> cell next to the surface, and a half cell for oblique surfaces.
+  real(wp), parameter :: ghost_depth = 3.5_wp
 
 contains
 
@@ -34,7 +44,7 @@ contains
     if (is_set(sim%cfg%t_end)) t_end = sim%cfg%t_end
     restart_step = -1
     if (len_trim(sim%cfg%restart) > 0) restart_step = sim%step
-    call history_open(hist, trim(sim%cfg%out_dir) // '/history.csv', history_columns(), &
+    call history_open(hist, trim(sim%cfg%out_dir) // '/history.csv', history_columns(sim), &
       restart_step)
     if (restart_step < 0) then
       if (sim%cfg%plot_dt > 0.0_wp .or. sim%cfg%plot_every > 0) call output_plot(sim)
@@ -61,6 +71,8 @@ contains
       call timer_stop(sim%timers, 'dt')
       if (.not. ok) call recompute_first_order(sim, rate, ok)
       stop_bad = .not. ok
+      if (sim%ls%n > 0 .and. mod(sim%step + 1, sim%cfg%reinit_every) == 0) &
+        call reinitialise(sim)
       sim%time = sim%time + sim%dt
       sim%step = sim%step + 1
       sim%cell_steps = sim%cell_steps + int(size(sim%blocks), i8) * product(sim%lay%bsize)
@@ -180,18 +192,34 @@ contains
       tstage = sim%time + stage_time(stage, sim%cfg%rk_order) * sim%dt
       call timer_start(sim%timers, 'halo')
       call halo_exchange(sim%plan, sim%blocks, sim%nvar)
-      call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, tstage)
+      call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, tstage)
       call timer_stop(sim%timers, 'halo')
+      if (sim%ls%n > 0) call ghost_fill(sim, tstage)
       call timer_start(sim%timers, 'fluxes')
       do b = 1, size(sim%blocks)
-        call boundary_walls(sim%lay, sim%bc, sim%blocks(b), tstage, wall, vwall)
-        call euler_rhs(sim%lay, sim%eos, sim%st, sim%scheme, sim%flux, sim%blocks(b)%q, &
-          sim%blocks(b)%rhs, sim%blocks(b)%offset, wall, vwall, sim%work, nf, failed)
-        if (failed) exit
-        call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, sim%blocks(b)%q, &
-          sim%blocks(b)%q0, sim%blocks(b)%rhs)
-        if (sim%has_strength) call plastic_correction(sim%lay, sim%eos, sim%st, &
-          sim%cfg%thermal, sim%dt, sim%blocks(b)%q)
+        associate (blk => sim%blocks(b))
+          if (sim%ls%n > 0) then
+            ! a block of void or rigid interior far from every surface holds a rest state
+            ! that nothing changes: no fluxes (DESIGN: void costs nothing)
+            if (sim%dormant(b)) then
+              if (stage == 1) blk%q0 = blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), &
+                1:sim%lay%bsize(3), :)
+              cycle
+            end if
+          end if
+          call boundary_walls(sim%lay, sim%bc, blk, tstage, wall, vwall)
+          call euler_rhs(sim%lay, sim%eos, sim%st, sim%scheme, sim%flux, &
+            blk%q(:, :, :, 1:sim%nflow), blk%rhs(:, :, :, 1:sim%nflow), blk%offset, wall, &
+            vwall, sim%work, nf, failed)
+          if (failed) exit
+          if (sim%ls%n > 0) call levelset_rates(sim, b)
+          call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, blk%q, blk%q0, &
+            blk%rhs)
+          if (sim%has_strength) call plastic_correction(sim%lay, sim%eos, sim%st, &
+            sim%cfg%thermal, sim%dt, blk%q)
+          if (sim%ls%n > 0) call gfm_rest(sim%lay, sim%eos, sim%ls, sim%nflow, sim%rest, &
+            blk%q, sim%gwork)
+        end associate
       end do
       call timer_stop(sim%timers, 'fluxes')
       ! a stage whose state has no admissible cell values somewhere ends the step on every
@@ -203,5 +231,130 @@ contains
     sim%fallback_faces = sim%fallback_faces + nfall
     sim%fallback_step = comm_sum(nfall)
   end subroutine advance
+
+  !> The ghost-fluid stage of DESIGN section 5: rigid level sets moved to the stage time,
+  !> ghost bands filled on every block (m_gfm), then a second halo exchange of the flow
+  !> variables so that each block sees its neighbours' ghosts.
+  subroutine ghost_fill(sim, tstage)
+    type(sim_t), intent(inout) :: sim
+    real(wp), intent(in) :: tstage
+    integer :: b, l, i, j, k
+    call timer_start(sim%timers, 'gfm')
+    do l = 1, sim%ls%n
+      if (sim%ls%kind(l) /= ls_rigid .or. .not. any(abs(sim%ls%velocity(:, l)) > 0.0_wp)) cycle
+      do b = 1, size(sim%blocks)
+        associate (q => sim%blocks(b)%q, body => sim%cfg%bodies(sim%ls%body(l)))
+          do k = lbound(q, 3), ubound(q, 3)
+            do j = lbound(q, 2), ubound(q, 2)
+              do i = lbound(q, 1), ubound(q, 1)
+                q(i, j, k, sim%nflow + l) = body_distance(body, sim%lay%ndim, &
+                  cell_centre(sim%lay, sim%blocks(b)%offset, i, j, k) &
+                  - tstage * sim%ls%velocity(:, l))
+              end do
+            end do
+          end do
+        end associate
+      end do
+    end do
+    do b = 1, size(sim%blocks)
+      call gfm_fill(sim%lay, sim%eos, sim%ls, sim%nflow, sim%probe, &
+        ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim)), sim%rest, &
+        sim%blocks(b)%q, sim%gwork, sim%gcount, sim%dormant(b))
+    end do
+    call timer_stop(sim%timers, 'gfm')
+    call timer_start(sim%timers, 'halo')
+    call halo_exchange(sim%plan, sim%blocks, sim%nflow)
+    call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nflow, sim%nflow, tstage)
+    call timer_stop(sim%timers, 'halo')
+  end subroutine ghost_fill
+
+  !> Right-hand sides of the level sets of block b: material and void bodies move with the
+  !> flow's velocity (extended into the ghost band by the fill, so it is an extension
+  !> velocity there), inside the narrow band |phi| <= band dx; rigid ones are set in
+  !> ghost_fill and have no rate.
+  subroutine levelset_rates(sim, b)
+    type(sim_t), intent(inout) :: sim
+    integer, intent(in) :: b
+    integer :: l, d, iv
+    real(wp) :: width
+    associate (q => sim%blocks(b)%q, rhs => sim%blocks(b)%rhs, n => sim%lay%bsize)
+      do d = 1, 3
+        sim%vel(:, :, :, d) = q(:, :, :, i_mx + d - 1) / q(:, :, :, i_rho)
+      end do
+      width = real(sim%cfg%band, wp) * maxval(sim%lay%dx(1:sim%lay%ndim))
+      do l = 1, sim%ls%n
+        iv = sim%nflow + l
+        if (sim%ls%kind(l) == ls_rigid) then
+          rhs(:, :, :, iv) = 0.0_wp
+          cycle
+        end if
+        call levelset_advect_rhs(sim%lay%ndim, sim%lay%bsize, sim%lay%ng, sim%lay%dx, &
+          q(:, :, :, iv), sim%vel, sim%ls_rhs)
+        where (abs(q(1:n(1), 1:n(2), 1:n(3), iv)) > width) sim%ls_rhs = 0.0_wp
+        rhs(:, :, :, iv) = sim%ls_rhs
+      end do
+    end associate
+  end subroutine levelset_rates
+
+  !> Reinitialise the level sets of material and void bodies to signed distances
+  !> (m_levelset_reinit): band pseudo-steps of half a cell, so the distance is rebuilt out to
+  !> band / 2 cells (3 for the default band of 6, the depth of the ghost band, beyond which
+  !> nothing moves the level set), with a halo exchange of the level sets before every RK
+  !> stage. The cells next to the surface are frozen: the zero level set stays where the
+  !> advection put it.
+  subroutine reinitialise(sim)
+    type(sim_t), intent(inout) :: sim
+    integer :: it, stage, b, l, iv, lo(3), hi(3), nls
+    real(wp), allocatable :: phi0(:, :, :, :, :), old(:, :, :)
+    real(wp) :: dtau
+    nls = sim%ls%n
+    if (.not. any(sim%ls%kind == ls_material .or. sim%ls%kind == ls_void)) return
+    call timer_start(sim%timers, 'reinit')
+    lo = 1 - sim%lay%ng
+    hi = sim%lay%bsize + sim%lay%ng
+    call halo_exchange(sim%plan, sim%blocks, sim%nvar, sim%nflow + 1)
+    call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, sim%time)
+    allocate(phi0(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nls, size(sim%blocks)))
+    allocate(old(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
+    do b = 1, size(sim%blocks)
+      phi0(:, :, :, :, b) = sim%blocks(b)%q(:, :, :, sim%nflow + 1:sim%nvar)
+    end do
+    dtau = 0.5_wp * minval(sim%lay%dx(1:sim%lay%ndim))
+    do it = 1, sim%cfg%band
+      do stage = 1, 3
+        if (it > 1 .or. stage > 1) then
+          call halo_exchange(sim%plan, sim%blocks, sim%nvar, sim%nflow + 1)
+          call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, sim%time)
+        end if
+        do b = 1, size(sim%blocks)
+          do l = 1, nls
+            if (sim%ls%kind(l) == ls_rigid) cycle
+            iv = sim%nflow + l
+            call save_or_restore(b, l, stage)
+            call levelset_reinit_step(sim%lay%ndim, sim%lay%bsize, sim%lay%ng, sim%lay%dx, &
+              phi0(:, :, :, l, b), stage, dtau, sim%blocks(b)%q(:, :, :, iv), old, &
+              freeze=.true.)
+            call keep_rk(b, l)
+          end do
+        end do
+      end do
+    end do
+    call timer_stop(sim%timers, 'reinit')
+
+  contains
+
+    ! the RK save space of one level set on one block lives in the rhs array (free between
+    ! steps)
+    subroutine save_or_restore(bb, ll, st)
+      integer, intent(in) :: bb, ll, st
+      if (st > 1) old = sim%blocks(bb)%rhs(:, :, :, sim%nflow + ll)
+    end subroutine save_or_restore
+
+    subroutine keep_rk(bb, ll)
+      integer, intent(in) :: bb, ll
+      sim%blocks(bb)%rhs(:, :, :, sim%nflow + ll) = old
+    end subroutine keep_rk
+
+  end subroutine reinitialise
 
 end module m_timeloop

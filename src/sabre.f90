@@ -108,7 +108,7 @@ contains
     write(line, '(a,a,a,a,a,i0,a,f5.3)') 'numerics: scheme ', trim(s%cfg%scheme), ', flux ', &
       trim(s%cfg%flux), ', rk_order ', s%cfg%rk_order, ', cfl ', s%cfg%cfl
     call log_line(line)
-    call log_line('material: ' // trim(s%cfg%base_material) // ' (eos ' // &
+    call log_line('material: ' // trim(s%material) // ' (eos ' // &
       trim(eos_name(s)) // ')')
     call log_line('effects: strength ' // trim(s%strength_reason))
     if (s%has_strength .and. s%cfg%thermal) then
@@ -120,8 +120,8 @@ contains
     else
       call log_line('effects: thermal off: no strength (a gas carries its temperature in e)')
     end if
-    call log_line('effects: heat conduction off, reaction off (not in this version); ' // &
-      'interfaces off (no body of another material)')
+    call log_line('effects: heat conduction off, reaction off (not in this version)')
+    call log_line('effects: interfaces ' // trim(interfaces_reason(s)))
     if (s%has_strength) then
       write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
         'rho w, rho E, rho S (6), rho eps_p, rho w_c)'
@@ -132,13 +132,32 @@ contains
     call log_line(line)
   end subroutine write_run_header
 
+  !> 'on: ...' with the level-set bodies and their boundary classes, or 'off: ...'.
+  function interfaces_reason(s) result(text)
+    type(sim_t), intent(in) :: s
+    character(len=line_len) :: text
+    character(len=*), parameter :: class_name(3) = [character(len=24) :: &
+      'free surface (MVI)', 'void, free surface (MVI)', 'rigid (MRI)']
+    integer :: l
+    if (s%ls%n == 0) then
+      text = 'off: no body of another material, void or rigid'
+      return
+    end if
+    write(text, '(a,i0,a,i0,a)') 'on: ', s%ls%n, ' level sets, probe ' // trim(s%cfg%gfm_probe) &
+      // ', band ', s%cfg%band, ' cells:'
+    do l = 1, s%ls%n
+      text = trim(text) // ' ' // trim(s%ls%name(l)) // ' ' // trim(class_name(s%ls%kind(l)))
+      if (l < s%ls%n) text = trim(text) // ';'
+    end do
+  end function interfaces_reason
+
   function eos_name(s) result(name)
     type(sim_t), intent(in) :: s
     character(len=32) :: name
     integer :: k
     name = ''
     do k = 1, s%cfg%n_materials
-      if (s%cfg%materials(k)%name == s%cfg%base_material) name = s%cfg%materials(k)%eos
+      if (s%cfg%materials(k)%name == s%material) name = s%cfg%materials(k)%eos
     end do
   end function eos_name
 
@@ -154,6 +173,19 @@ contains
       ', first-order fallback faces ', nfall, ' in all, ', s%first_order_steps, &
       ' steps recomputed at first order'
     call log_line(line)
+    if (s%ls%n > 0) then
+      write(line, '(a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a)') 'gfm: ', &
+        comm_sum(s%gcount%ghosts), ' ghost fills: ', comm_sum(s%gcount%trilinear), &
+        ' trilinear (', comm_sum(s%gcount%incomplete), ' with an incomplete stencil), ', &
+        comm_sum(s%gcount%least_squares), ' least squares, ', comm_sum(s%gcount%mean), &
+        ' mean of neighbours, ', comm_sum(s%gcount%unfilled), ' without a real neighbour, ', &
+        comm_sum(s%gcount%limited), ' ghost pressures limited'
+      call log_line(line)
+      write(line, '(a,f9.3,a,f9.3,a)') 'gfm: ghost fill ', &
+        comm_max(timer_total(s%timers, 'gfm')), ' s, reinitialisation ', &
+        comm_max(timer_total(s%timers, 'reinit')), ' s'
+      call log_line(line)
+    end if
     write(line, '(a,f10.3,a,f9.3,a,f9.3,a,f9.3,a,f9.3,a)') 'wall time ', elapsed, &
       ' s: fluxes ', comm_max(timer_total(s%timers, 'fluxes')), ' s, halo+bc ', &
       comm_max(timer_total(s%timers, 'halo')), ' s, dt ', &

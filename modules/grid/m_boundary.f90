@@ -75,11 +75,13 @@ contains
     end if
   end subroutine side_condition
 
-  subroutine boundary_apply(lay, bc, blocks, nvar, time)
+  !> Halos of variables 1..nvar at the domain's sides; the first nflow are the flow variables
+  !> (the stress among them changes sign in a mirror), the others scalars (level sets).
+  subroutine boundary_apply(lay, bc, blocks, nvar, nflow, time)
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
     type(block_t), intent(inout) :: blocks(:)
-    integer, intent(in) :: nvar
+    integer, intent(in) :: nvar, nflow
     real(wp), intent(in) :: time
     integer :: b, d, s, kind
     real(wp) :: vwall
@@ -88,7 +90,7 @@ contains
       do d = 1, lay%ndim
         do s = -1, 1, 2
           call side_condition(lay, bc, blocks(b)%id, d, s, time, kind, vwall)
-          if (kind /= 0) call face_fill(lay, blocks(b)%q, nvar, d, s, kind, vwall)
+          if (kind /= 0) call face_fill(lay, blocks(b)%q, nvar, nflow, d, s, kind, vwall)
         end do
       end do
     end do
@@ -152,9 +154,9 @@ contains
   !> One face of a block, side s (-1 low, +1 high) of direction d, over the full extent of
   !> the other directions including their halos: halo cell n + l mirrors cell n + 1 - l
   !> (outflow: copies cell n).
-  subroutine face_fill(lay, q, nvar, d, s, kind, vwall)
+  subroutine face_fill(lay, q, nvar, nflow, d, s, kind, vwall)
     type(layout_t), intent(in) :: lay
-    integer, intent(in) :: nvar, d, s, kind
+    integer, intent(in) :: nvar, nflow, d, s, kind
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(in) :: vwall
     integer :: lo(3), hi(3), i, j, k, m, n, src(3), imom
@@ -181,7 +183,7 @@ contains
             q(i, j, k, m) = q(src(1), src(2), src(3), m)
           end do
           if (kind == bc_outflow) cycle
-          if (nvar > n_euler) then
+          if (nflow > n_euler) then
             ! mirror in direction d: the shear stresses S_dt change sign
             do m = 1, 3
               if (m == d) cycle

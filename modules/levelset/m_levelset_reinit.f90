@@ -7,8 +7,10 @@
 !> sign) use the sub-cell fix of Russo and Smereka (2000): rhs = -(sgn(phi0) |phi| - D) / dx
 !> with D = phi0 / |grad phi0| and |grad phi0|^2 = sum_d (max(|phi0(+) - phi0(-)| / 2,
 !> |phi0(+) - phi0|, |phi0 - phi0(-)|) / dx_d)^2, which keeps the zero level set in place.
-!> levelset_reinit_step is one RK stage: the caller exchanges the halo of phi before each
-!> stage (phi0 needs a valid 1-deep halo once, for the sign and the interface test).
+!> With freeze, the cells next to the interface keep their values (the zero level set cannot
+!> move at all; the moving bodies of the time loop use this, since the sub-cell fix drifts
+!> at the corners of advected bodies). levelset_reinit_step is one RK stage: the caller
+!> exchanges the halo of phi before each stage (phi0 needs a valid 1-deep halo once, for the sign and the interface test).
 !> levelset_reinit is a convenience for a single block with no neighbours: it fills the halo
 !> itself by zero-gradient extrapolation, so it is wrong across block or periodic
 !> boundaries. No narrow band, no MPI, no state.
@@ -50,25 +52,31 @@ contains
 
   !> One RK3 stage (1, 2, 3) of the reinitialisation; phi0 is the level set before the
   !> first iteration, phi_old the RK save space kept by the caller between stages.
-  subroutine levelset_reinit_step(ndim, n, g, dx, phi0, stage, dtau, phi, phi_old, scheme)
+  subroutine levelset_reinit_step(ndim, n, g, dx, phi0, stage, dtau, phi, phi_old, scheme, &
+      freeze)
     integer, intent(in) :: ndim, n(3), g(3), stage
     real(wp), intent(in) :: dx(3), dtau
     real(wp), intent(in) :: phi0(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
     real(wp), intent(inout) :: phi(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
     real(wp), intent(inout) :: phi_old(n(1), n(2), n(3))
     integer, intent(in), optional :: scheme
+    logical, intent(in), optional :: freeze   !< keep the cells next to the interface as they are
     real(wp), allocatable :: rhs(:, :, :)
     integer :: sch
+    logical :: frz
     sch = scheme_weno5
     if (present(scheme)) sch = scheme
+    frz = .false.
+    if (present(freeze)) frz = freeze
     allocate(rhs(n(1), n(2), n(3)))
-    call levelset_reinit_rhs(ndim, n, g, dx, phi0, phi, rhs, sch)
+    call levelset_reinit_rhs(ndim, n, g, dx, phi0, phi, rhs, sch, frz)
     call levelset_rk_stage(n, g, stage, dtau, phi, phi_old, rhs)
   end subroutine levelset_reinit_step
 
   !> rhs = -S(phi0) (|grad phi|_Godunov - 1), or the Russo-Smereka form next to the interface.
-  subroutine levelset_reinit_rhs(ndim, n, g, dx, phi0, phi, rhs, scheme)
+  subroutine levelset_reinit_rhs(ndim, n, g, dx, phi0, phi, rhs, scheme, freeze)
     integer, intent(in) :: ndim, n(3), g(3), scheme
+    logical, intent(in) :: freeze
     real(wp), intent(in) :: dx(3)
     real(wp), intent(in) :: phi0(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
     real(wp), intent(in) :: phi(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
@@ -116,7 +124,9 @@ contains
             delta = max(0.5_wp * abs(pp - pm), abs(pp - p), abs(p - pm)) / dx(d)
             gs2 = gs2 + delta**2
           end do
-          if (near) then
+          if (near .and. freeze) then
+            rhs(i, j, k) = 0.0_wp
+          else if (near) then
             ! Russo-Smereka: relax towards the distance implied by phi0 and its slope
             rhs(i, j, k) = -(sign(1.0_wp, p) * abs(phi(i, j, k)) &
               - p / sqrt(max(gs2, tiny_grad))) / h

@@ -203,31 +203,35 @@ contains
     end do
   end subroutine sort_pieces
 
-  !> Fill the halos of variables 1..nvar of every block's q. Receives are posted first,
-  !> local copies run while the messages travel.
-  subroutine halo_exchange(plan, blocks, nvar)
+  !> Fill the halos of variables first..nvar (first defaults to 1) of every block's q.
+  !> Receives are posted first, local copies run while the messages travel.
+  subroutine halo_exchange(plan, blocks, nvar, first)
     type(halo_plan_t), intent(inout) :: plan
     type(block_t), intent(inout) :: blocks(:)
     integer, intent(in) :: nvar
-    integer :: r, k, m, pos, i, j, kk, c
+    integer, intent(in), optional :: first
+    integer :: r, k, m, pos, i, j, kk, c, m1, nv
     integer, allocatable :: scount(:), rcount(:), ranks(:)
     type(piece_t) :: pc
-    if (size(plan%sendbuf, 1) < maxval([1, plan%partner%ncells_send]) * nvar) then
+    m1 = 1
+    if (present(first)) m1 = first
+    nv = nvar - m1 + 1
+    if (size(plan%sendbuf, 1) < maxval([1, plan%partner%ncells_send]) * nv) then
       deallocate(plan%sendbuf, plan%recvbuf)
-      allocate(plan%sendbuf(maxval([1, plan%partner%ncells_send]) * nvar, &
+      allocate(plan%sendbuf(maxval([1, plan%partner%ncells_send]) * nv, &
         max(plan%npartner, 1)))
-      allocate(plan%recvbuf(maxval([1, plan%partner%ncells_recv]) * nvar, &
+      allocate(plan%recvbuf(maxval([1, plan%partner%ncells_recv]) * nv, &
         max(plan%npartner, 1)))
     end if
     allocate(scount(plan%npartner), rcount(plan%npartner), ranks(plan%npartner))
     do r = 1, plan%npartner
       ranks(r) = plan%partner(r)%rank
-      scount(r) = plan%partner(r)%ncells_send * nvar
-      rcount(r) = plan%partner(r)%ncells_recv * nvar
+      scount(r) = plan%partner(r)%ncells_send * nv
+      rcount(r) = plan%partner(r)%ncells_recv * nv
       pos = 0
       do k = 1, size(plan%partner(r)%send)
         pc = plan%partner(r)%send(k)
-        do m = 1, nvar
+        do m = m1, nvar
           do kk = pc%lo(3), pc%hi(3)
             do j = pc%lo(2), pc%hi(2)
               do i = pc%lo(1), pc%hi(1)
@@ -244,10 +248,10 @@ contains
     do c = 1, plan%ncopy
       pc = plan%copy(c)
       if (pc%local == pc%src_local) then
-        call copy_within(plan%ng, blocks(pc%local)%q, pc%lo, pc%hi, pc%slo, nvar)
+        call copy_within(plan%ng, blocks(pc%local)%q, pc%lo, pc%hi, pc%slo, m1, nvar)
       else
         call copy_box(plan%ng, blocks(pc%local)%q, blocks(pc%src_local)%q, pc%lo, pc%hi, &
-          pc%slo, nvar)
+          pc%slo, m1, nvar)
       end if
     end do
     if (plan%npartner > 0) call exchange_wait(plan%ex)
@@ -255,7 +259,7 @@ contains
       pos = 0
       do k = 1, size(plan%partner(r)%recv)
         pc = plan%partner(r)%recv(k)
-        do m = 1, nvar
+        do m = m1, nvar
           do kk = pc%lo(3), pc%hi(3)
             do j = pc%lo(2), pc%hi(2)
               do i = pc%lo(1), pc%hi(1)
@@ -271,13 +275,13 @@ contains
 
   !> dst(box lo..hi) = src(box starting at slo), two distinct blocks: explicit loops, so that
   !> no temporary is made for a possible overlap of the two sections.
-  subroutine copy_box(ng, dst, src, lo, hi, slo, nvar)
-    integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), nvar
+  subroutine copy_box(ng, dst, src, lo, hi, slo, m1, nvar)
+    integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), m1, nvar
     real(wp), intent(inout) :: dst(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
     real(wp), intent(in) :: src(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
     integer :: i, j, k, m, o(3)
     o = slo - lo
-    do m = 1, nvar
+    do m = m1, nvar
       do k = lo(3), hi(3)
         do j = lo(2), hi(2)
           do i = lo(1), hi(1)
@@ -290,12 +294,12 @@ contains
 
   !> The same within one block (a periodic direction with a single block): the two boxes
   !> never overlap.
-  subroutine copy_within(ng, q, lo, hi, slo, nvar)
-    integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), nvar
+  subroutine copy_within(ng, q, lo, hi, slo, m1, nvar)
+    integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), m1, nvar
     real(wp), intent(inout) :: q(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
     integer :: i, j, k, m, o(3)
     o = slo - lo
-    do m = 1, nvar
+    do m = m1, nvar
       do k = lo(3), hi(3)
         do j = lo(2), hi(2)
           do i = lo(1), hi(1)

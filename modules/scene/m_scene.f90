@@ -10,7 +10,7 @@ module m_scene
   use m_layout, only: layout_t, block_offset
   implicit none
   private
-  public :: inside_body, cell_centre, rigid_block_status
+  public :: inside_body, cell_centre, rigid_block_status, body_distance
 
 contains
 
@@ -45,6 +45,42 @@ contains
       inside = .false.
     end select
   end function inside_body
+
+  !> Signed distance from point x to the body's surface (negative inside; only the first ndim
+  !> coordinates count): exact for spheres, half spaces, boxes and finite cylinders, so the
+  !> level sets start as signed distances.
+  pure real(wp) function body_distance(body, ndim, x) result(d)
+    type(body_t), intent(in) :: body
+    integer, intent(in) :: ndim
+    real(wp), intent(in) :: x(3)
+    real(wp) :: r(3), a(3), along, side(3)
+    r = 0.0_wp
+    r(1:ndim) = x(1:ndim) - body%center(1:ndim)
+    select case (trim(body%shape))
+    case ('box')
+      side = 0.0_wp
+      side(1:ndim) = abs(x(1:ndim) - 0.5_wp * (body%lo(1:ndim) + body%hi(1:ndim))) &
+        - 0.5_wp * (body%hi(1:ndim) - body%lo(1:ndim))
+      d = box_distance(side(1:ndim))
+    case ('sphere')
+      d = norm2(r) - body%radius
+    case ('cylinder')
+      a = body%axis / norm2(body%axis)
+      along = dot_product(r, a)
+      d = box_distance([norm2(r - along * a) - body%radius, abs(along) - 0.5_wp * body%length])
+    case ('half_space')
+      d = dot_product(r, body%axis) / norm2(body%axis)
+    case default
+      d = huge(1.0_wp)
+    end select
+  end function body_distance
+
+  !> Signed distance of a point whose distances outside each face pair of a box are side(:)
+  !> (negative inside along that axis).
+  pure real(wp) function box_distance(side) result(d)
+    real(wp), intent(in) :: side(:)
+    d = norm2(max(side, 0.0_wp)) + min(maxval(side), 0.0_wp)
+  end function box_distance
 
   !> For block id: 0 when no cell centre lies in the rigid body, 2 when all do, 1 when only
   !> some do (a rigid body must cover whole blocks in this version).

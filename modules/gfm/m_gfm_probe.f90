@@ -1,0 +1,147 @@
+!> Probes of the ghost-fluid method (DESIGN section 1, manual/interfaces.md section 3): the
+!> value of the primitive variables at an image point inside the material, from the real
+!> cells around it. Points are given in cell-index coordinates (cell i has its centre at
+!> s = i; an inactive direction has lo = hi = 1 and s = 1).
+!> - probe_trilinear: (bi/tri)linear interpolation over the 2^ndim cells around the point.
+!>   The stencil is complete when all of them are real and inside the array; an incomplete
+!>   stencil still gives a value (from the cells it has, real or not) and says so.
+!> - probe_least_squares: a linear fit a0 + a . (x - s), weighted 1 / (1 + d^2) (d the
+!>   distance in cells), over the real cells among the 3^ndim nearest, or the 5^ndim nearest
+!>   where those do not determine the fit; with fewer than ndim + 1 such cells (or a singular fit) the mean of the real
+!>   cells within two cells (npts < 0 then: minus their number); npts = 0 when there is none.
+!> Kernels only.
+module m_gfm_probe
+  use m_kinds, only: wp
+  implicit none
+  private
+  public :: probe_trilinear, probe_least_squares
+
+contains
+
+  subroutine probe_trilinear(ndim, lo, hi, w, isreal, s, val, complete)
+    integer, intent(in) :: ndim, lo(3), hi(3)
+    real(wp), intent(in) :: w(lo(1):, lo(2):, lo(3):, :)
+    logical, intent(in) :: isreal(lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: s(3)
+    real(wp), intent(out) :: val(:)
+    logical, intent(out) :: complete
+    integer :: i0(3), c(3), a, b, d
+    real(wp) :: f(3), wt
+    i0 = 1
+    f = 0.0_wp
+    do d = 1, ndim
+      i0(d) = min(max(floor(s(d)), lo(d)), hi(d) - 1)
+      f(d) = min(max(s(d) - real(i0(d), wp), 0.0_wp), 1.0_wp)
+    end do
+    complete = all(floor(s(1:ndim)) == i0(1:ndim))
+    val = 0.0_wp
+    do a = 0, 2**ndim - 1
+      c = i0
+      wt = 1.0_wp
+      do d = 1, ndim
+        b = ibits(a, d - 1, 1)
+        c(d) = i0(d) + b
+        wt = wt * merge(f(d), 1.0_wp - f(d), b == 1)
+      end do
+      complete = complete .and. isreal(c(1), c(2), c(3))
+      val = val + wt * w(c(1), c(2), c(3), :)
+    end do
+  end subroutine probe_trilinear
+
+  subroutine probe_least_squares(ndim, lo, hi, w, isreal, s, val, npts)
+    integer, intent(in) :: ndim, lo(3), hi(3)
+    real(wp), intent(in) :: w(lo(1):, lo(2):, lo(3):, :)
+    logical, intent(in) :: isreal(lo(1):, lo(2):, lo(3):)
+    real(wp), intent(in) :: s(3)
+    real(wp), intent(out) :: val(:)
+    integer, intent(out) :: npts
+    real(wp) :: a(4, 4), rhs(4, size(val)), row(4), wt
+    integer :: ic(3), c(3), m, i, j, k, reach(3), r
+    logical :: ok
+    m = ndim + 1
+    ic = 1
+    ic(1:ndim) = min(max(nint(s(1:ndim)), lo(1:ndim)), hi(1:ndim))
+    ! the 3^ndim nearest cells first; where their real ones do not span a linear fit (all on
+    ! one line: a surface along a grid line) the 5^ndim nearest, weighted to the nearest
+    do r = 1, 2
+      reach = 0
+      reach(1:ndim) = r
+      a = 0.0_wp
+      rhs = 0.0_wp
+      npts = 0
+      do k = ic(3) - reach(3), ic(3) + reach(3)
+        do j = ic(2) - reach(2), ic(2) + reach(2)
+          do i = ic(1) - reach(1), ic(1) + reach(1)
+            c = [i, j, k]
+            if (any(c < lo) .or. any(c > hi)) cycle
+            if (.not. isreal(i, j, k)) cycle
+            npts = npts + 1
+            row(1) = 1.0_wp
+            row(2:m) = real(c(1:ndim), wp) - s(1:ndim)
+            wt = 1.0_wp / (1.0_wp + sum(row(2:m)**2))
+            a(1:m, 1:m) = a(1:m, 1:m) + wt * spread(row(1:m), 2, m) * spread(row(1:m), 1, m)
+            rhs(1:m, :) = rhs(1:m, :) + wt * spread(row(1:m), 2, size(val)) &
+              * spread(w(i, j, k, :), 1, m)
+          end do
+        end do
+      end do
+      if (npts >= m) then
+        call solve_small(m, a, rhs, ok)
+        if (ok) then
+          val = rhs(1, :)
+          return
+        end if
+      end if
+    end do
+    ! too few real neighbours (a thin sliver, a corner): the mean of those within two cells
+    val = 0.0_wp
+    npts = 0
+    do k = ic(3) - reach(3), ic(3) + reach(3)
+      do j = ic(2) - reach(2), ic(2) + reach(2)
+        do i = ic(1) - reach(1), ic(1) + reach(1)
+          c = [i, j, k]
+          if (any(c < lo) .or. any(c > hi)) cycle
+          if (.not. isreal(i, j, k)) cycle
+          npts = npts + 1
+          val = val + w(i, j, k, :)
+        end do
+      end do
+    end do
+    if (npts > 0) val = val / real(npts, wp)
+    npts = -npts
+  end subroutine probe_least_squares
+
+  !> Solve a(1:m, 1:m) x = b(1:m, :) in place (x in b) by Gaussian elimination with partial
+  !> pivoting; ok is false when a pivot is below 1e-10 of the largest diagonal entry.
+  pure subroutine solve_small(m, a, b, ok)
+    integer, intent(in) :: m
+    real(wp), intent(inout) :: a(:, :), b(:, :)
+    logical, intent(out) :: ok
+    integer :: c, r, p
+    real(wp) :: scale, t(size(b, 2)), f, trow(size(a, 2))
+    scale = maxval([(abs(a(c, c)), c = 1, m)])
+    ok = .false.
+    do c = 1, m
+      p = c - 1 + maxloc(abs(a(c:m, c)), 1)
+      if (abs(a(p, c)) <= 1.0e-10_wp * scale) return
+      if (p /= c) then
+        trow = a(c, :)
+        a(c, :) = a(p, :)
+        a(p, :) = trow
+        t = b(c, :)
+        b(c, :) = b(p, :)
+        b(p, :) = t
+      end if
+      do r = c + 1, m
+        f = a(r, c) / a(c, c)
+        a(r, c:m) = a(r, c:m) - f * a(c, c:m)
+        b(r, :) = b(r, :) - f * b(c, :)
+      end do
+    end do
+    do c = m, 1, -1
+      b(c, :) = (b(c, :) - matmul(a(c, c+1:m), b(c+1:m, :))) / a(c, c)
+    end do
+    ok = .true.
+  end subroutine solve_small
+
+end module m_gfm_probe

@@ -1,0 +1,156 @@
+!> Unit test of the ghost-fluid modules (modules/gfm, manual/interfaces.md):
+!> (1) both probes reproduce a linear field exactly (1e-12) where their stencils are full, in
+!> 2D and 3D; the least-squares probe still does with only a corner of real cells, and with
+!> real cells on one grid line it takes the wider stencil; (2) an MVI ghost of a random
+!> stressed state: the traction of the mean of image and ghost on the surface is zero
+!> (sigma n = 0 to 1e-12 relative), J1 = tr S of the ghost is zero to round-off, density,
+!> pressure and velocity are extended; (3) an MRI ghost: the mean normal velocity is the
+!> wall's, the tangential velocity is extended, the normal stress is continuous and the
+!> shear traction of the mean is zero.
+program test_gfm
+  use m_kinds, only: wp
+  use m_comm, only: comm_init, comm_exit
+  use m_gfm_probe, only: probe_trilinear, probe_least_squares
+  use m_gfm_mvi, only: gfm_mvi
+  use m_gfm_mri, only: gfm_mri
+  implicit none
+  integer :: nfail
+  call comm_init()
+  nfail = 0
+  call check_probes(2)
+  call check_probes(3)
+  call check_classes(2)
+  call check_classes(3)
+  if (nfail == 0) then
+    write(6, '(a)') 'PASS test_gfm'
+    call comm_exit(0)
+  end if
+  write(6, '(a,i0,a)') 'FAIL test_gfm: ', nfail, ' checks failed'
+  call comm_exit(1)
+
+contains
+
+  subroutine require(what, ok)
+    character(len=*), intent(in) :: what
+    logical, intent(in) :: ok
+    if (ok) then
+      write(6, '(a)') 'ok    ' // what
+    else
+      write(6, '(a)') 'FAIL  ' // what
+      nfail = nfail + 1
+    end if
+  end subroutine require
+
+  subroutine check_probes(nd)
+    integer, intent(in) :: nd
+    integer, parameter :: n = 6
+    real(wp) :: w(-1:n, -1:n, -1:n, 2), s(3), val(2), c(3), exact(2)
+    logical :: isreal(-1:n, -1:n, -1:n), complete
+    integer :: lo(3), hi(3), i, j, k, npts
+    character(len=8) :: tag
+    write(tag, '(i0,a)') nd, 'D'
+    lo = -1
+    hi = n
+    if (nd < 3) then
+      lo(3) = 1
+      hi(3) = 1
+    end if
+    c = [0.7_wp, -1.3_wp, 2.1_wp]
+    if (nd < 3) c(3) = 0.0_wp
+    do k = lo(3), hi(3)
+      do j = lo(2), hi(2)
+        do i = lo(1), hi(1)
+          w(i, j, k, 1) = 3.0_wp + dot_product(c, real([i, j, k], wp))
+          w(i, j, k, 2) = -1.0_wp + 0.5_wp * dot_product(c, real([i, j, k], wp))
+        end do
+      end do
+    end do
+    s = [2.3_wp, 3.6_wp, 1.0_wp]
+    if (nd == 3) s(3) = 2.45_wp
+    exact = [3.0_wp + dot_product(c, s), -1.0_wp + 0.5_wp * dot_product(c, s)]
+    isreal = .true.
+    call probe_trilinear(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
+      isreal(lo(1):, lo(2):, lo(3):), s, val, complete)
+    call require(trim(tag) // ' trilinear exact for a linear field, full stencil', &
+      complete .and. maxval(abs(val - exact)) < 1.0e-12_wp)
+    call probe_least_squares(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
+      isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
+    call require(trim(tag) // ' least squares exact for a linear field, full stencil', &
+      npts == 3**nd .and. maxval(abs(val - exact)) < 1.0e-12_wp)
+    ! only the cells below and left of the point are real: a corner
+    isreal = .false.
+    isreal(:2, :3, :) = .true.
+    call probe_trilinear(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
+      isreal(lo(1):, lo(2):, lo(3):), s, val, complete)
+    call require(trim(tag) // ' trilinear reports an incomplete stencil at a corner', &
+      .not. complete)
+    call probe_least_squares(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
+      isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
+    call require(trim(tag) // ' least squares exact at a corner (fewer real cells)', &
+      npts > 0 .and. npts < 5**nd .and. maxval(abs(val - exact)) < 1.0e-12_wp)
+    ! real cells on one line of i only (a surface along a grid line): the 3-stencil is
+    ! degenerate, the 5-stencil is not
+    isreal = .false.
+    isreal(:1, :, :) = .true.
+    s(1) = 1.7_wp
+    exact = [3.0_wp + dot_product(c, s), -1.0_wp + 0.5_wp * dot_product(c, s)]
+    call probe_least_squares(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
+      isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
+    call require(trim(tag) // ' least squares exact with real cells on one grid line', &
+      npts > 0 .and. maxval(abs(val - exact)) < 1.0e-11_wp)
+    isreal = .false.
+    call probe_least_squares(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
+      isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
+    call require(trim(tag) // ' least squares reports no real cell', npts == 0)
+  end subroutine check_probes
+
+  subroutine check_classes(nd)
+    integer, intent(in) :: nd
+    real(wp) :: wi(13), wg(13), nrm(3), sig_i(3, 3), sig_g(3, 3), t(3), vb(3), un
+    real(wp) :: scale
+    character(len=8) :: tag
+    write(tag, '(i0,a)') nd, 'D'
+    nrm = [0.6_wp, 0.8_wp, 0.0_wp]
+    if (nd == 3) nrm = [0.48_wp, 0.64_wp, 0.6_wp]
+    wi = [8930.0_wp, 120.0_wp, -35.0_wp, 0.0_wp, 1.3e9_wp, 2.1e8_wp, -0.7e8_wp, -1.4e8_wp, &
+      0.9e8_wp, 0.3e8_wp, -0.5e8_wp, 0.4_wp, 1.0e3_wp]
+    if (nd == 3) wi(4) = 17.0_wp
+    scale = 1.3e9_wp
+    call gfm_mvi(nd, nrm, wi, wg)
+    sig_i = stress(wi)
+    sig_g = stress(wg)
+    t = matmul(0.5_wp * (sig_i + sig_g), nrm)
+    call require(trim(tag) // ' MVI: traction of the mean state on the surface is zero', &
+      norm2(t) < 1.0e-12_wp * scale)
+    call require(trim(tag) // ' MVI: J1 of the ghost deviator is zero', &
+      abs(wg(6) + wg(7) + wg(8)) < 1.0e-12_wp * scale)
+    call require(trim(tag) // ' MVI: density, pressure, velocity, eps_p extended', &
+      maxval(abs(wg(1:5) - wi(1:5))) <= 0.0_wp .and. maxval(abs(wg(12:13) - wi(12:13))) <= 0.0_wp)
+    vb = [3.0_wp, -2.0_wp, 0.0_wp]
+    call gfm_mri(nd, nrm, vb, wi, wg)
+    un = dot_product(0.5_wp * (wi(2:4) + wg(2:4)), nrm)
+    call require(trim(tag) // ' MRI: mean normal velocity is the wall''s', &
+      abs(un - dot_product(vb, nrm)) < 1.0e-12_wp * 100.0_wp)
+    call require(trim(tag) // ' MRI: tangential velocity extended', norm2((wg(2:4) - wi(2:4)) &
+      - dot_product(wg(2:4) - wi(2:4), nrm) * nrm) < 1.0e-12_wp * 100.0_wp)
+    sig_i = stress(wi)
+    sig_g = stress(wg)
+    t = matmul(0.5_wp * (sig_i + sig_g), nrm)
+    call require(trim(tag) // ' MRI: normal stress continuous, no shear traction', &
+      abs(dot_product(t, nrm) - dot_product(matmul(sig_i, nrm), nrm)) < 1.0e-12_wp * scale &
+      .and. norm2(t - dot_product(t, nrm) * nrm) < 1.0e-12_wp * scale)
+    call require(trim(tag) // ' MRI: J1 of the ghost deviator is zero', &
+      abs(wg(6) + wg(7) + wg(8) - sum(wi(6:8))) < 1.0e-12_wp * scale)
+  end subroutine check_classes
+
+  pure function stress(w) result(sig)
+    real(wp), intent(in) :: w(:)
+    real(wp) :: sig(3, 3)
+    integer :: d
+    sig = reshape([w(6), w(9), w(11), w(9), w(7), w(10), w(11), w(10), w(8)], [3, 3])
+    do d = 1, 3
+      sig(d, d) = sig(d, d) - w(5)
+    end do
+  end function stress
+
+end program test_gfm
