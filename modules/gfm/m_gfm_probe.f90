@@ -7,8 +7,9 @@
 !>   stencil still gives a value (from the cells it has, real or not) and says so.
 !> - probe_least_squares: a linear fit a0 + a . (x - s), weighted 1 / (1 + d^2) (d the
 !>   distance in cells), over the real cells among the 3^ndim nearest, or the 5^ndim nearest
-!>   where those do not determine the fit; with fewer than ndim + 1 such cells (or a singular fit) the mean of the real
-!>   cells within two cells (npts < 0 then: minus their number); npts = 0 when there is none.
+!>   where those do not determine the fit; with fewer than ndim + 1 such cells (or a
+!>   singular fit) the mean of the real cells within two cells (npts < 0 then: minus their
+!>   number); npts = 0 when there is none.
 !> Kernels only.
 module m_gfm_probe
   use m_kinds, only: wp

@@ -10,7 +10,8 @@
 !> With freeze, the cells next to the interface keep their values (the zero level set cannot
 !> move at all; the moving bodies of the time loop use this, since the sub-cell fix drifts
 !> at the corners of advected bodies). levelset_reinit_step is one RK stage: the caller
-!> exchanges the halo of phi before each stage (phi0 needs a valid 1-deep halo once, for the sign and the interface test).
+!> exchanges the halo of phi before each stage (phi0 needs a valid 1-deep halo once, for the
+!> sign and the interface test).
 !> levelset_reinit is a convenience for a single block with no neighbours: it fills the halo
 !> itself by zero-gradient extrapolation, so it is wrong across block or periodic
 !> boundaries. No narrow band, no MPI, no state.

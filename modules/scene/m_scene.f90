@@ -1,9 +1,8 @@
 !> The scene: bodies and their shapes (DESIGN section 6, &body), painted in deck order onto
-!> the cells of the blocks (a later body overrides an earlier one). In this version every
-!> body is of the base material (it sets the initial state there: a shock-tube half, a blast
-!> region) or is a rigid obstacle that covers whole blocks, which are then not computed and
-!> act as rigid walls for their neighbours (m_boundary). Level-set bodies of other materials
-!> come with the interface work.
+!> the cells of the blocks (a later body overrides an earlier one): which cells a body holds,
+!> its signed distance (the initial level set of a body of another material, void or rigid;
+!> manual/interfaces.md), and whether a rigid body covers whole blocks (which are then not
+!> computed and act as exact rigid walls for their neighbours, m_boundary).
 module m_scene
   use m_kinds, only: wp
   use m_config, only: body_t
