@@ -333,6 +333,7 @@ contains
     real(wp) :: m(8)
     real(wp) :: x(3), vol, dv, lo(3), hi(3), t, edge
     integer :: b, i, j, k, d, c(3), iv
+    logical :: isreal(sim%lay%bsize(1))
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
     iv = sim%nflow + l
     vol = product(sim%lay%dx(1:sim%lay%ndim))
@@ -343,14 +344,15 @@ contains
       associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
         do k = 1, sim%lay%bsize(3)
           do j = 1, sim%lay%bsize(2)
+            if (.not. any(q(1:sim%lay%bsize(1), j, k, iv) < 0.0_wp)) cycle
+            isreal = real_cells(sim, q(1:sim%lay%bsize(1), j, k, :))
             do i = 1, sim%lay%bsize(1)
               if (.not. q(i, j, k, iv) < 0.0_wp) cycle
               x = cell_centre(sim%lay, off, i, j, k)
               dv = vol
               if (sim%lay%axisymmetric) dv = vol * two_pi * x(1)
               m(2) = m(2) + dv
-              if (all(real_cells(sim, reshape(q(i, j, k, :), [1, sim%nvar])))) &
-                m(1) = m(1) + dv * q(i, j, k, i_rho)
+              if (isreal(i)) m(1) = m(1) + dv * q(i, j, k, i_rho)
               do d = 1, sim%lay%ndim
                 lo(d) = min(lo(d), x(d))
                 hi(d) = max(hi(d), x(d))
