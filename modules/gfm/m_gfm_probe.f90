@@ -56,7 +56,7 @@ contains
     real(wp), intent(in) :: s(3)
     real(wp), intent(out) :: val(:)
     integer, intent(out) :: npts
-    real(wp) :: a(4, 4), rhs(4, size(val)), row(4), wt
+    real(wp) :: a(4, 4), rhs(4, size(val)), row(4), wt, wsum(size(val))
     integer :: ic(3), c(3), m, i, j, k, reach(3), r
     logical :: ok
     m = ndim + 1
@@ -69,6 +69,7 @@ contains
       reach(1:ndim) = r
       a = 0.0_wp
       rhs = 0.0_wp
+      wsum = 0.0_wp
       npts = 0
       do k = ic(3) - reach(3), ic(3) + reach(3)
         do j = ic(2) - reach(2), ic(2) + reach(2)
@@ -83,6 +84,7 @@ contains
             a(1:m, 1:m) = a(1:m, 1:m) + wt * spread(row(1:m), 2, m) * spread(row(1:m), 1, m)
             rhs(1:m, :) = rhs(1:m, :) + wt * spread(row(1:m), 2, size(val)) &
               * spread(w(i, j, k, :), 1, m)
+            wsum = wsum + w(i, j, k, :)
           end do
         end do
       end do
@@ -96,19 +98,7 @@ contains
     end do
     ! too few real neighbours (a thin sliver, a corner): the mean of those within two cells
     val = 0.0_wp
-    npts = 0
-    do k = ic(3) - reach(3), ic(3) + reach(3)
-      do j = ic(2) - reach(2), ic(2) + reach(2)
-        do i = ic(1) - reach(1), ic(1) + reach(1)
-          c = [i, j, k]
-          if (any(c < lo) .or. any(c > hi)) cycle
-          if (.not. isreal(i, j, k)) cycle
-          npts = npts + 1
-          val = val + w(i, j, k, :)
-        end do
-      end do
-    end do
-    if (npts > 0) val = val / real(npts, wp)
+    if (npts > 0) val = wsum / real(npts, wp)
     npts = -npts
   end subroutine probe_least_squares
 
