@@ -46,7 +46,7 @@ CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_halo test_hdf5 test_strength test_levelset test_gfm
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
-.PHONY: all deps check run verify bench clean unit accuracy
+.PHONY: all deps check run verify bench clean unit accuracy stability
 all: bin/sabre
 
 bin/sabre: $(REL_OBJ) build/rel/src/sabre.o | bin
@@ -98,6 +98,11 @@ verify: deps
 accuracy: deps
 	$(MAKE) bin/sabre
 	$(PY) tools/accuracy
+
+# the stability suite of hard cases (issue 5 section 2; manual/stability.md)
+stability: deps
+	$(MAKE) bin/sabre
+	$(PY) tools/stability
 
 bench: deps
 	$(MAKE) bin/sabre bin/stream_triad
