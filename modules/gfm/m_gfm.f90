@@ -88,6 +88,7 @@ contains
     type(gfm_counts_t), intent(inout) :: counts
     logical, intent(out) :: dormant   !< every cell, halo included, lies beyond the band
     integer :: lo(3), hi(3), i, j, k, m, nr, npts, d, nd, k3(3)
+    real(wp) :: qrest(nflow)
     real(wp) :: grad(3), s(3), wi(nflow), wg(nflow), c2(1), phi_p, dist
     logical :: complete
     nd = lay%ndim
@@ -99,6 +100,7 @@ contains
     dormant = all(work%bigphi > band)
     ! a block with no cell outside the computed region has nothing to fill
     if (all(work%isreal(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3)))) return
+    qrest = rest_state(eos, nflow, rest)
     do k = lo(3), hi(3)
       do j = lo(2), hi(2)
         call primitive_row(eos, nr, q(:, j, k, i_rho), q(:, j, k, i_mx), q(:, j, k, i_my), &
@@ -115,8 +117,7 @@ contains
           phi_p = work%bigphi(i, j, k)
           if (phi_p < 0.0_wp) cycle
           if (phi_p > band) then
-            call put_state(eos, [rest(1), 0.0_wp, 0.0_wp, 0.0_wp, rest(2), &
-              (0.0_wp, m = n_euler + 1, nflow)], q(i, j, k, 1:nflow))
+            q(i, j, k, 1:nflow) = qrest
             cycle
           end if
           counts%ghosts = counts%ghosts + 1
@@ -153,8 +154,7 @@ contains
             if (npts < 0) counts%mean = counts%mean + 1
             if (npts == 0) then
               counts%unfilled = counts%unfilled + 1
-              call put_state(eos, [rest(1), 0.0_wp, 0.0_wp, 0.0_wp, rest(2), &
-                (0.0_wp, m = n_euler + 1, nflow)], q(i, j, k, 1:nflow))
+              q(i, j, k, 1:nflow) = qrest
               cycle
             end if
           end if
@@ -203,21 +203,34 @@ contains
     real(wp), intent(in) :: rest(2)
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     type(gfm_work_t), intent(inout) :: work
-    integer :: lo(3), hi(3), i, j, k, m
+    integer :: lo(3), hi(3), i, j, k
+    real(wp) :: qrest(nflow)
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
     call ls_region(set, lo, hi, q(:, :, :, nflow+1:nflow+set%n), work%bigphi, work%owner)
     if (all(work%bigphi(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3)) < 0.0_wp)) return
+    qrest = rest_state(eos, nflow, rest)
     do k = 1, lay%bsize(3)
       do j = 1, lay%bsize(2)
         do i = 1, lay%bsize(1)
           if (work%bigphi(i, j, k) < 0.0_wp) cycle
-          call put_state(eos, [rest(1), 0.0_wp, 0.0_wp, 0.0_wp, rest(2), &
-            (0.0_wp, m = n_euler + 1, nflow)], q(i, j, k, 1:nflow))
+          q(i, j, k, 1:nflow) = qrest
         end do
       end do
     end do
   end subroutine gfm_rest
+
+  !> Conserved variables of the rest state (density rest(1), pressure rest(2), at rest, no
+  !> stress), computed once per block rather than once per cell.
+  function rest_state(eos, nflow, rest) result(qr)
+    type(eos_t), intent(in) :: eos
+    integer, intent(in) :: nflow
+    real(wp), intent(in) :: rest(2)
+    real(wp) :: qr(nflow)
+    integer :: m
+    call put_state(eos, [rest(1), 0.0_wp, 0.0_wp, 0.0_wp, rest(2), &
+      (0.0_wp, m = n_euler + 1, nflow)], qr)
+  end function rest_state
 
   !> Conserved variables of one cell from a primitive state.
   subroutine put_state(eos, w, qc)
