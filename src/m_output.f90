@@ -64,7 +64,7 @@ contains
       else
         do k = 1, size(sim%blocks)
           data(:, :, :, k) = sim%blocks(k)%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), &
-            1:sim%lay%bsize(3), sim%nflow + m - sim%cfg%n_fields)
+            1:sim%lay%bsize(3), sim%ils + m - sim%cfg%n_fields)
         end do
       end if
       call h5_write_field(f, '/fields/' // trim(names(m)), sim%lay, ids, data)
@@ -83,51 +83,63 @@ contains
     name = 'phi_' // trim(body)
   end function name_of_ls
 
-  !> One named field over the interiors of this rank's blocks.
+  !> One named field over the interiors of this rank's blocks: in each cell the value of the
+  !> phase whose region it is (where none is, the nearest phase's rest or ghost state).
   subroutine field_values(sim, name, data)
     type(sim_t), intent(in) :: sim
     character(len=*), intent(in) :: name
     real(wp), intent(out) :: data(:, :, :, :)
-    integer :: b, j, k, n
-    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, v, w, p, e, aux
+    integer :: b, j, k, n, p, off
+    integer :: sel(sim%lay%bsize(1))
+    logical :: isreal(sim%lay%bsize(1))
+    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, v, w, pr, e, aux
     n = sim%lay%bsize(1)
     do b = 1, size(sim%blocks)
       associate (q => sim%blocks(b)%q)
         do k = 1, sim%lay%bsize(3)
           do j = 1, sim%lay%bsize(2)
-            call primitive_row(sim%eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
-              q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
-            select case (trim(name))
-            case ('rho')
-              aux = rho
-            case ('u')
-              aux = u
-            case ('v')
-              aux = v
-            case ('w')
-              aux = w
-            case ('p')
-              aux = p
-            case ('e')
-              aux = e
-            case ('T')
-              if (sim%has_strength) then
-                call solid_temperature(sim%eos, sim%st, n, rho, e, q(1:n, j, k, :), aux)
-              else
-                call eos_temperature(sim%eos, n, rho, e, aux)
-              end if
-            case ('c')
-              call eos_sound_speed2(sim%eos, n, rho, p, aux)
-              aux = sqrt(max(aux, 0.0_wp))
-            case ('mach')
-              call eos_sound_speed2(sim%eos, n, rho, p, aux)
-              aux = sqrt(u**2 + v**2 + w**2) / sqrt(max(aux, tiny(1.0_wp)))
-            case ('sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz', 'eps_p', 'seq')
-              aux = solid_field(name, q(1:n, j, k, :), rho)
-            case default
-              aux = 0.0_wp
-            end select
-            data(:, j, k, b) = aux
+            call phase_select(sim, q(1:n, j, k, :), sel, isreal)
+            do p = 1, sim%nphase
+              if (.not. any(sel == p)) cycle
+              off = (p - 1) * sim%nflow
+              associate (qp => q(1:n, j, k, off + 1:off + sim%nflow))
+                call primitive_row(sim%eos(p), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
+                  qp(:, i_mz), qp(:, i_en), rho, u, v, w, pr, e)
+                select case (trim(name))
+                case ('rho')
+                  aux = rho
+                case ('u')
+                  aux = u
+                case ('v')
+                  aux = v
+                case ('w')
+                  aux = w
+                case ('p')
+                  aux = pr
+                case ('e')
+                  aux = e
+                case ('T')
+                  if (sim%strong(p)) then
+                    call solid_temperature(sim%eos(p), sim%st(p), n, rho, e, qp, aux)
+                  else
+                    call eos_temperature(sim%eos(p), n, rho, e, aux)
+                  end if
+                case ('c')
+                  call eos_sound_speed2(sim%eos(p), n, rho, pr, aux)
+                  aux = sqrt(max(aux, 0.0_wp))
+                case ('mach')
+                  call eos_sound_speed2(sim%eos(p), n, rho, pr, aux)
+                  aux = sqrt(u**2 + v**2 + w**2) / sqrt(max(aux, tiny(1.0_wp)))
+                case ('sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz', 'eps_p', 'seq')
+                  aux = solid_field(name, qp, rho)
+                case ('phase')
+                  aux = real(p, wp)
+                case default
+                  aux = 0.0_wp
+                end select
+              end associate
+              where (sel == p) data(:, j, k, b) = aux
+            end do
           end do
         end do
       end associate
@@ -252,7 +264,9 @@ contains
     real(wp), allocatable :: v(:)
     real(wp) :: tot(8), vol, r, pmax, tmax, epmax
     real(wp), dimension(sim%lay%bsize(1)) :: rho, u, vv, w, p, e, temp, dv, msk
-    integer :: b, i, j, k, n, l, nb
+    integer :: sel(sim%lay%bsize(1))
+    logical :: isreal(sim%lay%bsize(1))
+    integer :: b, i, j, k, n, l, nb, ph, o
     real(wp), allocatable :: body(:, :)
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
     n = sim%lay%bsize(1)
@@ -261,7 +275,6 @@ contains
     tmax = -huge(1.0_wp)
     epmax = 0.0_wp
     vol = product(sim%lay%dx(1:sim%lay%ndim))
-    msk = 1.0_wp
     do b = 1, size(sim%blocks)
       associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
         do i = 1, n
@@ -273,25 +286,32 @@ contains
         end do
         do k = 1, sim%lay%bsize(3)
           do j = 1, sim%lay%bsize(2)
-            call primitive_row(sim%eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
-              q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, vv, w, p, e)
-            if (sim%has_strength) then
-              call solid_temperature(sim%eos, sim%st, n, rho, e, q(1:n, j, k, :), temp)
-            else
-              call eos_temperature(sim%eos, n, rho, e, temp)
-            end if
-            if (sim%ls%n > 0) msk = merge(1.0_wp, 0.0_wp, real_cells(sim, q(1:n, j, k, :)))
-            tot(1) = tot(1) + sum(msk * dv * rho)
-            tot(2) = tot(2) + sum(msk * dv * q(1:n, j, k, i_mx))
-            tot(3) = tot(3) + sum(msk * dv * q(1:n, j, k, i_my))
-            tot(4) = tot(4) + sum(msk * dv * q(1:n, j, k, i_mz))
-            tot(5) = tot(5) + sum(msk * dv * 0.5_wp * rho * (u**2 + vv**2 + w**2))
-            tot(6) = tot(6) + sum(msk * dv * rho * e)
-            tot(7) = tot(7) + sum(msk * dv * q(1:n, j, k, i_en))
-            pmax = max(pmax, maxval(p, msk > 0.0_wp))
-            tmax = max(tmax, maxval(temp, msk > 0.0_wp))
-            if (sim%has_strength) epmax = max(epmax, &
-              maxval(q(1:n, j, k, i_epsp) / rho, msk > 0.0_wp))
+            call phase_select(sim, q(1:n, j, k, :), sel, isreal)
+            do ph = 1, sim%nphase
+              msk = merge(1.0_wp, 0.0_wp, isreal .and. sel == ph)
+              if (.not. any(msk > 0.0_wp)) cycle
+              o = (ph - 1) * sim%nflow
+              associate (qp => q(1:n, j, k, o + 1:o + sim%nflow))
+                call primitive_row(sim%eos(ph), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
+                  qp(:, i_mz), qp(:, i_en), rho, u, vv, w, p, e)
+                if (sim%strong(ph)) then
+                  call solid_temperature(sim%eos(ph), sim%st(ph), n, rho, e, qp, temp)
+                else
+                  call eos_temperature(sim%eos(ph), n, rho, e, temp)
+                end if
+                tot(1) = tot(1) + sum(msk * dv * rho)
+                tot(2) = tot(2) + sum(msk * dv * qp(:, i_mx))
+                tot(3) = tot(3) + sum(msk * dv * qp(:, i_my))
+                tot(4) = tot(4) + sum(msk * dv * qp(:, i_mz))
+                tot(5) = tot(5) + sum(msk * dv * 0.5_wp * rho * (u**2 + vv**2 + w**2))
+                tot(6) = tot(6) + sum(msk * dv * rho * e)
+                tot(7) = tot(7) + sum(msk * dv * qp(:, i_en))
+                pmax = max(pmax, maxval(p, msk > 0.0_wp))
+                tmax = max(tmax, maxval(temp, msk > 0.0_wp))
+                if (sim%strong(ph)) epmax = max(epmax, &
+                  maxval(qp(:, i_epsp) / rho, msk > 0.0_wp))
+              end associate
+            end do
           end do
         end do
       end associate
@@ -312,17 +332,30 @@ contains
     v = [v, reshape(body, [8 * nb])]
   end function history_values
 
-  !> Which cells of a row are real (in the computed region).
-  function real_cells(sim, qrow) result(isreal)
+  !> The phase of each cell of a row (the one whose composite level set is least there) and
+  !> whether the cell is real for it (in its region).
+  subroutine phase_select(sim, qrow, sel, isreal)
     type(sim_t), intent(in) :: sim
     real(wp), intent(in) :: qrow(:, :)
-    logical :: isreal(size(qrow, 1))
-    real(wp) :: bigphi(size(qrow, 1), 1, 1)
-    integer :: owner(size(qrow, 1), 1, 1)
-    call ls_region(sim%ls, [1, 1, 1], [size(qrow, 1), 1, 1], &
-      reshape(qrow(:, sim%nflow + 1:sim%nvar), [size(qrow, 1), 1, 1, sim%ls%n]), bigphi, owner)
-    isreal = bigphi(:, 1, 1) < 0.0_wp
-  end function real_cells
+    integer, intent(out) :: sel(:)
+    logical, intent(out) :: isreal(:)
+    real(wp) :: bigphi(size(qrow, 1), 1, 1), best(size(qrow, 1))
+    integer :: owner(size(qrow, 1), 1, 1), p, nr
+    sel = 1
+    isreal = .true.
+    if (sim%ls%n == 0) return
+    nr = size(qrow, 1)
+    best = huge(1.0_wp)
+    do p = 1, sim%nphase
+      call ls_region(sim%ls, p, [1, 1, 1], [nr, 1, 1], &
+        reshape(qrow(:, sim%ils + 1:sim%nvar), [nr, 1, 1, sim%ls%n]), bigphi, owner)
+      where (bigphi(:, 1, 1) < best)
+        sel = p
+        best = bigphi(:, 1, 1)
+      end where
+    end do
+    isreal = best < 0.0_wp
+  end subroutine phase_select
 
   !> Mass (real cells inside the body), volume (cells with phi < 0, 2 pi r weighted in
   !> axisymmetry) and bounding box of level set l; the box edges are the zero crossings of
@@ -332,10 +365,12 @@ contains
     integer, intent(in) :: l
     real(wp) :: m(8)
     real(wp) :: x(3), vol, dv, lo(3), hi(3), t, edge
-    integer :: b, i, j, k, d, c(3), iv
+    integer :: b, i, j, k, d, c(3), iv, o
+    integer :: sel(sim%lay%bsize(1))
     logical :: isreal(sim%lay%bsize(1))
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
-    iv = sim%nflow + l
+    iv = sim%ils + l
+    o = (sim%ls%phase(l) - 1) * sim%nflow
     vol = product(sim%lay%dx(1:sim%lay%ndim))
     m(1:2) = 0.0_wp
     lo = huge(1.0_wp)
@@ -345,14 +380,15 @@ contains
         do k = 1, sim%lay%bsize(3)
           do j = 1, sim%lay%bsize(2)
             if (.not. any(q(1:sim%lay%bsize(1), j, k, iv) < 0.0_wp)) cycle
-            isreal = real_cells(sim, q(1:sim%lay%bsize(1), j, k, :))
+            call phase_select(sim, q(1:sim%lay%bsize(1), j, k, :), sel, isreal)
+            isreal = isreal .and. sel == sim%ls%phase(l)
             do i = 1, sim%lay%bsize(1)
               if (.not. q(i, j, k, iv) < 0.0_wp) cycle
               x = cell_centre(sim%lay, off, i, j, k)
               dv = vol
               if (sim%lay%axisymmetric) dv = vol * two_pi * x(1)
               m(2) = m(2) + dv
-              if (isreal(i)) m(1) = m(1) + dv * q(i, j, k, i_rho)
+              if (isreal(i)) m(1) = m(1) + dv * q(i, j, k, o + i_rho)
               do d = 1, sim%lay%ndim
                 lo(d) = min(lo(d), x(d))
                 hi(d) = max(hi(d), x(d))

@@ -17,8 +17,8 @@ module m_simulation
   use m_reconstruct, only: scheme_from_name
   use m_flux, only: flux_from_name
   use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status
-  use m_levelset_bodies, only: ls_set_t, ls_material, ls_void, ls_rigid
-  use m_gfm, only: gfm_work_t, gfm_work_init, gfm_counts_t, probe_from_name
+  use m_levelset_bodies, only: ls_set_t, ls_material, ls_void, ls_rigid, ls_region
+  use m_gfm, only: gfm_work_t, gfm_work_init, gfm_counts_t, gfm_scene_t, probe_from_name
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid
   use m_yield, only: strength_t, strength_from_material, strength_none
   use m_timers, only: timers_t
@@ -29,29 +29,38 @@ module m_simulation
   private
   public :: sim_t, sim_setup, sim_paint_initial_state
 
+  !> Depth of the ghost band in cells: the reach (3) of the ENO3 and WENO5 stencils of a real
+  !> cell next to the surface, and a half cell for oblique surfaces.
+  real(wp), parameter :: ghost_depth = 3.5_wp
+
   type :: sim_t
     type(config_t) :: cfg
     type(layout_t) :: lay
     type(block_t), allocatable :: blocks(:)
     type(halo_plan_t) :: plan
     type(euler_work_t) :: work
-    type(eos_t) :: eos
     type(bc_kind_t) :: bc
-    integer :: nvar = n_euler          !< flow variables followed by the level sets
-    integer :: nflow = n_euler         !< flow variables: n_euler, or n_solid with strength
-    character(len=name_len) :: material = ''   !< the flowing material
+    integer :: nvar = n_euler          !< flow variables of every phase, then the level sets
+    integer :: nflow = n_euler         !< flow variables of a phase: n_euler, or n_solid
+    integer :: nphase = 1              !< phases (flow states): base material, material bodies
+    integer :: ils = n_euler           !< level set l is variable ils + l
+    ! per phase p: its material, equation of state, strength, shear modulus (0 without
+    ! strength) and rest state (density, pressure) of its non-computed cells
+    character(len=name_len), allocatable :: material(:)
+    type(eos_t), allocatable :: eos(:)
+    type(strength_t), allocatable :: st(:)
+    real(wp), allocatable :: shear(:)
+    logical, allocatable :: strong(:)
+    real(wp), allocatable :: rest(:, :)
     type(ls_set_t) :: ls               !< level-set bodies (m_levelset_bodies)
+    type(gfm_scene_t) :: scn           !< what the ghost fill needs of the phases
     type(gfm_work_t) :: gwork
     type(gfm_counts_t) :: gcount
-    integer :: probe = 3
-    real(wp) :: rest(2) = 0.0_wp       !< rest density and pressure of non-computed cells
     real(wp), allocatable :: vel(:, :, :, :)   !< level-set advection velocity (padded block)
     real(wp), allocatable :: ls_rhs(:, :, :)
     logical, allocatable :: dormant(:)         !< block entirely beyond the ghost band
     logical :: has_strength = .false.  !< the state carries rho S and rho eps_p
-    real(wp) :: shear = 0.0_wp         !< shear modulus of the material (0: fluid)
-    type(strength_t) :: st
-    character(len=128) :: strength_reason = ''
+    character(len=256) :: strength_reason = ''
     integer :: scheme = 3, flux = 1
     real(wp) :: time = 0.0_wp, dt = 0.0_wp, dt_first = 0.0_wp
     integer :: step = 0
@@ -74,7 +83,7 @@ contains
     type(config_t), intent(in) :: cfg
     type(sim_t), intent(inout) :: sim
     logical :: periodic(3)
-    integer :: d, km, lo(3), hi(3)
+    integer :: d, p, lo(3), hi(3)
     integer, allocatable :: work(:)
     type(material_t) :: mat
     sim%cfg = cfg
@@ -88,83 +97,96 @@ contains
     call layout_init(sim%lay, cfg%ndim, cfg%cells, cfg%block, cfg%lo, cfg%hi, periodic, &
       trim(cfg%geometry) == 'axisymmetric')
     call level_set_bodies(cfg, sim)
-    km = material_index(cfg, sim%material)
-    mat = cfg%materials(km)
-    sim%st = strength_from_material(mat)
-    sim%has_strength = cfg%strength .and. sim%st%model /= strength_none
-    if (sim%has_strength) then
-      sim%nflow = n_solid
-      sim%shear = sim%st%g
-      sim%strength_reason = 'on: material ' // trim(mat%name) // ' has ' // &
-        trim(mat%strength_model)
-    else if (sim%st%model /= strength_none) then
-      sim%strength_reason = 'off: &physics strength = .false. (material ' // trim(mat%name) // &
-        ' has ' // trim(mat%strength_model) // ')'
-    else
-      sim%strength_reason = 'off: material ' // trim(mat%name) // ' has no strength'
-    end if
-    sim%nvar = sim%nflow + sim%ls%n
+    sim%nphase = sim%ls%nphase
+    allocate(sim%eos(sim%nphase), sim%st(sim%nphase), sim%shear(sim%nphase), &
+      sim%strong(sim%nphase), sim%rest(2, sim%nphase))
+    sim%strength_reason = ''
+    do p = 1, sim%nphase
+      mat = cfg%materials(material_index(cfg, sim%material(p)))
+      sim%st(p) = strength_from_material(mat)
+      sim%strong(p) = cfg%strength .and. sim%st(p)%model /= strength_none
+      sim%shear(p) = 0.0_wp
+      if (sim%strong(p)) sim%shear(p) = sim%st(p)%g
+      sim%eos(p) = eos_of(mat)
+      call eos_prepare(sim%eos(p))
+      sim%rest(:, p) = [mat%rho0, mat%p0]
+      if (any(sim%material(1:p-1) == sim%material(p))) cycle
+      if (len_trim(sim%strength_reason) > 0) &
+        sim%strength_reason = trim(sim%strength_reason) // '; '
+      sim%strength_reason = trim(sim%strength_reason) // ' ' // trim(strength_text(p))
+    end do
+    sim%strength_reason = adjustl(sim%strength_reason)
+    sim%has_strength = any(sim%strong)
+    if (sim%has_strength) sim%nflow = n_solid
+    sim%ils = sim%nphase * sim%nflow
+    sim%nvar = sim%ils + sim%ls%n
     allocate(work(sim%lay%nblocks))
     work = product(sim%lay%bsize)
     call partition_blocks(sim%lay, work)
     call blocks_allocate(sim%lay, comm_rank(), sim%nvar, sim%blocks)
     call halo_plan_build(sim%lay, sim%blocks, sim%plan)
     call euler_work_init(sim%lay, sim%nflow, sim%work)
-    sim%eos = eos_of(mat)
-    call eos_prepare(sim%eos)
-    sim%rest = [mat%rho0, mat%p0]
     if (sim%ls%n > 0) then
-      call gfm_work_init(sim%lay, sim%nflow, sim%gwork)
+      call gfm_work_init(sim%lay, sim%nflow, sim%nphase, sim%gwork)
+      sim%scn%eos = sim%eos
+      sim%scn%shear = sim%shear
+      sim%scn%rest = sim%rest
+      sim%scn%nflow = sim%nflow
+      sim%scn%probe = probe_from_name(cfg%gfm_probe)
+      sim%scn%band = ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim))
+      sim%scn%contact = cfg%contact_kappa * maxval(sim%lay%dx(1:sim%lay%ndim))
       lo = 1 - sim%lay%ng
       hi = sim%lay%bsize + sim%lay%ng
       allocate(sim%vel(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), 3))
       allocate(sim%ls_rhs(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
       allocate(sim%dormant(size(sim%blocks)))
       sim%dormant = .false.
-      sim%probe = probe_from_name(cfg%gfm_probe)
     end if
     sim%scheme = scheme_from_name(cfg%scheme)
     sim%flux = flux_from_name(cfg%flux)
+
+  contains
+
+    !> the run log's reason for strength of phase pp's material
+    function strength_text(pp) result(t)
+      integer, intent(in) :: pp
+      character(len=128) :: t
+      if (sim%strong(pp)) then
+        t = 'on: material ' // trim(mat%name) // ' has ' // trim(mat%strength_model)
+      else if (sim%st(pp)%model /= strength_none) then
+        t = 'off: &physics strength = .false. (material ' // trim(mat%name) // ' has ' // &
+          trim(mat%strength_model) // ')'
+      else
+        t = 'off: material ' // trim(mat%name) // ' has no strength'
+      end if
+    end function strength_text
+
   end subroutine sim_setup
 
-  !> Which bodies carry level sets, and which material flows (manual/interfaces.md section 1):
-  !> the base material, or when the base is void the one material of the material bodies.
-  !> Every void and rigid body, and every body of a material other than the base, gets a
-  !> level set, except a resting rigid body made of whole blocks (a step, a wall segment),
-  !> whose blocks are switched off so that their faces are exact walls; blocks that lie deep
-  !> inside a rigid body (farther than the band and the halo from its surface) are not
-  !> computed at all.
+  !> Which bodies carry level sets, and the phases (manual/interfaces.md section 1): the base
+  !> material when it is not void (phase 1), then each material body. Every void and rigid
+  !> body, and every body of a material other than the base, gets a level set, except a
+  !> resting rigid body made of whole blocks (a step, a wall segment), whose blocks are
+  !> switched off so that their faces are exact walls; blocks that lie deep inside a rigid
+  !> body (farther than the band and the halo from its surface) are not computed at all.
   subroutine level_set_bodies(cfg, sim)
     type(config_t), intent(in) :: cfg
     type(sim_t), intent(inout) :: sim
-    integer :: b, n, id, i, j, k, off(3)
+    integer :: b, n, id, i, j, k, off(3), np
     real(wp) :: deep, dmax
     logical, allocatable :: whole(:)
     character(len=:), allocatable :: base
     base = trim(base_name(cfg%deck_file))
-    sim%material = cfg%base_material
-    if (cfg%base_material == 'void') then
-      sim%material = ''
-      do b = 1, cfg%n_bodies
-        if (cfg%bodies(b)%material == 'void' .or. cfg%bodies(b)%material == 'rigid') cycle
-        sim%material = cfg%bodies(b)%material
-        exit
-      end do
-      call stop_collective('ERROR ' // base // ' &domain base_material: with a void base ' // &
-        'some &body must be of a material', len_trim(sim%material) > 0)
-    end if
+    call stop_collective('ERROR ' // base // ' &domain base_material: with a void base ' // &
+      'some &body must be of a material', cfg%base_material /= 'void' .or. &
+      any([(cfg%bodies(b)%material /= 'void' .and. cfg%bodies(b)%material /= 'rigid', &
+      b = 1, cfg%n_bodies)]))
     sim%ls%base_flows = cfg%base_material /= 'void'
     allocate(whole(cfg%n_bodies))
     whole = .false.
     do b = 1, cfg%n_bodies
       associate (body => cfg%bodies(b))
         if (body%material == cfg%base_material) cycle
-        if (body%material /= 'void' .and. body%material /= 'rigid') &
-          call stop_collective('ERROR ' // base // ' &body ' // trim(body%name) // &
-          ' material: bodies of two different materials (' // trim(sim%material) // ', ' &
-          // trim(body%material) // ') need the material-material interface (MMI), ' // &
-          'which this version does not have (typical value material = ''' // &
-          trim(sim%material) // ''')', body%material == sim%material)
         ! a resting rigid body made of whole blocks: those blocks are switched off and their
         ! faces are exact walls of the neighbouring blocks (m_boundary); no level set
         if (body%material == 'rigid' .and. .not. any(abs(body%velocity) > 0.0_wp)) &
@@ -179,7 +201,14 @@ contains
     n = count([(cfg%bodies(b)%material /= cfg%base_material .and. .not. whole(b), &
       b = 1, cfg%n_bodies)])
     sim%ls%n = n
-    allocate(sim%ls%kind(n), sim%ls%body(n), sim%ls%name(n), sim%ls%velocity(3, n))
+    allocate(sim%ls%kind(n), sim%ls%body(n), sim%ls%name(n), sim%ls%velocity(3, n), &
+      sim%ls%phase(n))
+    allocate(sim%material(n + 1))
+    np = 0
+    if (sim%ls%base_flows) then
+      np = 1
+      sim%material(1) = cfg%base_material
+    end if
     n = 0
     do b = 1, cfg%n_bodies
       associate (body => cfg%bodies(b))
@@ -188,6 +217,7 @@ contains
         sim%ls%body(n) = b
         sim%ls%name(n) = body%name
         sim%ls%velocity(:, n) = body%velocity
+        sim%ls%phase(n) = 0
         select case (trim(body%material))
         case ('void')
           sim%ls%kind(n) = ls_void
@@ -195,6 +225,9 @@ contains
           sim%ls%kind(n) = ls_rigid
         case default
           sim%ls%kind(n) = ls_material
+          np = np + 1
+          sim%ls%phase(n) = np
+          sim%material(np) = body%material
         end select
         if (sim%ls%kind(n) /= ls_rigid .or. any(abs(body%velocity) > 0.0_wp)) cycle
         ! blocks deep inside a resting rigid body are not computed
@@ -215,6 +248,8 @@ contains
         end do
       end associate
     end do
+    sim%ls%nphase = np
+    sim%material = sim%material(1:np)
   end subroutine level_set_bodies
 
   function eos_of(mat) result(eos)
@@ -243,67 +278,89 @@ contains
     if (is_set(mat%poly_b)) eos%poly_b = mat%poly_b
   end function eos_of
 
-  !> Initial state: the flowing material at its reference state at rest, then every body of
-  !> that material in deck order; the level sets start as the bodies' signed distances, and
-  !> cells outside the computed region hold the rest state (the first stage's ghost fill
-  !> replaces it near the interfaces).
+  !> Initial state: each phase at its reference state at rest where it is not computed; the
+  !> base phase its material with the bodies of that material painted over it in deck
+  !> order, a body's phase the body's own state. The level sets start as the bodies' signed
+  !> distances, a later material body cut out of the earlier ones (phi_l = max(phi_l,
+  !> -phi_m)); cells outside a phase's region hold its rest state (the first stage's ghost
+  !> fill replaces it near the interfaces).
   subroutine sim_paint_initial_state(sim)
     type(sim_t), intent(inout) :: sim
-    integer :: b, i, j, k, nb, km, l
-    real(wp) :: x(3), rho, vel(3), p, e(1), bigphi
+    integer :: b, i, j, k, nb, l, m, p, off, own(1, 1, 1)
+    real(wp) :: x(3), rho, vel(3), pres, e(1), phi(1, 1, 1, sim%ls%n), bigphi(1, 1, 1)
+    real(wp) :: rest(2)
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
-    type(material_t) :: mat
-    km = material_index(sim%cfg, sim%material)
-    mat = sim%cfg%materials(km)
     do b = 1, size(sim%blocks)
       associate (blk => sim%blocks(b))
         do k = 1, sim%lay%bsize(3)
           do j = 1, sim%lay%bsize(2)
             do i = 1, sim%lay%bsize(1)
               x = cell_centre(sim%lay, blk%offset, i, j, k)
-              rho = mat%rho0
-              p = mat%p0
-              vel = 0.0_wp
-              do nb = 1, sim%cfg%n_bodies
-                associate (body => sim%cfg%bodies(nb))
-                  if (body%material /= sim%material) cycle
-                  if (.not. inside_body(body, sim%lay%ndim, x)) cycle
-                  ! the exact cell average of the sinusoid, so that smooth data start at
-                  ! the order of the scheme rather than at second order
-                  rho = body%rho * (1.0_wp + body%amplitude &
-                    * sin(two_pi * dot_product(body%wavevector, x)) &
-                    * product(sinc(0.5_wp * two_pi * body%wavevector * sim%lay%dx)))
-                  p = body%p
-                  vel = body%velocity
-                end associate
-              end do
-              bigphi = merge(-huge(1.0_wp), huge(1.0_wp), sim%ls%base_flows)
               do l = 1, sim%ls%n
-                blk%q(i, j, k, sim%nflow + l) = body_distance(sim%cfg%bodies(sim%ls%body(l)), &
+                phi(1, 1, 1, l) = body_distance(sim%cfg%bodies(sim%ls%body(l)), &
                   sim%lay%ndim, x)
-                if (sim%ls%kind(l) == ls_material .and. .not. sim%ls%base_flows) &
-                  bigphi = min(bigphi, blk%q(i, j, k, sim%nflow + l))
+                if (sim%ls%kind(l) /= ls_material) cycle
+                do m = 1, l - 1
+                  if (sim%ls%kind(m) == ls_material) &
+                    phi(1, 1, 1, m) = max(phi(1, 1, 1, m), -phi(1, 1, 1, l))
+                end do
               end do
-              do l = 1, sim%ls%n
-                if (sim%ls%kind(l) /= ls_material) &
-                  bigphi = max(bigphi, -blk%q(i, j, k, sim%nflow + l))
-              end do
-              if (bigphi >= 0.0_wp) then
-                rho = sim%rest(1)
-                p = sim%rest(2)
+              blk%q(i, j, k, sim%ils + 1:sim%nvar) = phi(1, 1, 1, :)
+              do p = 1, sim%nphase
+                rest = sim%rest(:, p)
+                rho = rest(1)
+                pres = rest(2)
                 vel = 0.0_wp
-              end if
-              call eos_energy(sim%eos, 1, [rho], [p], e)
-              blk%q(i, j, k, i_rho) = rho
-              blk%q(i, j, k, i_mx) = rho * vel(1)
-              blk%q(i, j, k, i_my) = rho * vel(2)
-              blk%q(i, j, k, i_mz) = rho * vel(3)
-              blk%q(i, j, k, i_en) = rho * (e(1) + 0.5_wp * sum(vel**2))
+                do nb = 1, sim%cfg%n_bodies
+                  if (.not. paints(nb, p)) cycle
+                  associate (body => sim%cfg%bodies(nb))
+                    if (.not. inside_body(body, sim%lay%ndim, x)) cycle
+                    ! the exact cell average of the sinusoid, so that smooth data start at
+                    ! the order of the scheme rather than at second order
+                    rho = body%rho * (1.0_wp + body%amplitude &
+                      * sin(two_pi * dot_product(body%wavevector, x)) &
+                      * product(sinc(0.5_wp * two_pi * body%wavevector * sim%lay%dx)))
+                    pres = body%p
+                    vel = body%velocity
+                  end associate
+                end do
+                if (sim%ls%n > 0) then
+                  call ls_region(sim%ls, p, [1, 1, 1], [1, 1, 1], phi, bigphi, own)
+                  if (bigphi(1, 1, 1) >= 0.0_wp) then
+                    rho = rest(1)
+                    pres = rest(2)
+                    vel = 0.0_wp
+                  end if
+                end if
+                call eos_energy(sim%eos(p), 1, [rho], [pres], e)
+                off = (p - 1) * sim%nflow
+                blk%q(i, j, k, off + 1:off + sim%nflow) = 0.0_wp
+                blk%q(i, j, k, off + i_rho) = rho
+                blk%q(i, j, k, off + i_mx) = rho * vel(1)
+                blk%q(i, j, k, off + i_my) = rho * vel(2)
+                blk%q(i, j, k, off + i_mz) = rho * vel(3)
+                blk%q(i, j, k, off + i_en) = rho * (e(1) + 0.5_wp * sum(vel**2))
+              end do
             end do
           end do
         end do
       end associate
     end do
+
+  contains
+
+    !> body nb paints phase pp: a body of the base material paints the base phase; a
+    !> material body with a level set paints its own phase
+    logical function paints(nb, pp)
+      integer, intent(in) :: nb, pp
+      integer :: ll
+      paints = sim%ls%base_flows .and. pp == 1 .and. &
+        sim%cfg%bodies(nb)%material == sim%cfg%base_material
+      do ll = 1, sim%ls%n
+        if (sim%ls%body(ll) == nb .and. sim%ls%phase(ll) == pp) paints = .true.
+      end do
+    end function paints
+
   end subroutine sim_paint_initial_state
 
   elemental real(wp) function sinc(z)

@@ -17,7 +17,7 @@ module m_timeloop
   use m_errors, only: stop_collective, log_line
   use m_timers, only: timer_start, timer_stop
   use m_gfm, only: gfm_fill, gfm_rest
-  use m_levelset_bodies, only: ls_rigid, ls_material, ls_void
+  use m_levelset_bodies, only: ls_rigid, ls_material, ls_void, ls_separate, ls_region
   use m_levelset_advect, only: levelset_advect_rhs
   use m_levelset_reinit, only: levelset_reinit_step
   use m_scene, only: body_distance, cell_centre
@@ -25,10 +25,6 @@ module m_timeloop
   implicit none
   private
   public :: run_time_loop
-
-  !> Depth of the ghost band in cells: the reach (3) of the ENO3 and WENO5 stencils of a real
-  !> cell next to the surface, and a half cell for oblique surfaces.
-  real(wp), parameter :: ghost_depth = 3.5_wp
 
 contains
 
@@ -161,13 +157,17 @@ contains
     logical, intent(out) :: ok
     real(wp) :: r
     logical :: good, all_good
-    integer :: b
+    integer :: b, p, off
     rate = 0.0_wp
     all_good = .true.
     do b = 1, size(sim%blocks)
-      call euler_max_rate(sim%lay, sim%eos, sim%shear, sim%blocks(b)%q, r, good)
-      rate = max(rate, r)
-      all_good = all_good .and. good
+      do p = 1, sim%nphase
+        off = (p - 1) * sim%nflow
+        call euler_max_rate(sim%lay, sim%eos(p), sim%shear(p), &
+          sim%blocks(b)%q(:, :, :, off + 1:off + sim%nflow), r, good)
+        rate = max(rate, r)
+        all_good = all_good .and. good
+      end do
     end do
     ok = .not. comm_any(.not. all_good)
     rate = comm_max(rate)
@@ -177,7 +177,7 @@ contains
   !> One time step of sim%dt by TVD Runge-Kutta of order rk_order.
   subroutine advance(sim)
     type(sim_t), intent(inout) :: sim
-    integer :: stage, b
+    integer :: stage, b, p, off
     integer(i8) :: nfall
     real(wp) :: tstage, vwall(2, 3)
     logical :: wall(2, 3)
@@ -192,7 +192,8 @@ contains
       tstage = sim%time + stage_time(stage, sim%cfg%rk_order) * sim%dt
       call timer_start(sim%timers, 'halo')
       call halo_exchange(sim%plan, sim%blocks, sim%nvar)
-      call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, tstage)
+      call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, tstage, &
+        sim%nphase)
       call timer_stop(sim%timers, 'halo')
       if (sim%ls%n > 0) call ghost_fill(sim, tstage)
       call timer_start(sim%timers, 'fluxes')
@@ -208,17 +209,26 @@ contains
             end if
           end if
           call boundary_walls(sim%lay, sim%bc, blk, tstage, wall, vwall)
-          call euler_rhs(sim%lay, sim%eos, sim%st, sim%scheme, sim%flux, &
-            blk%q(:, :, :, 1:sim%nflow), blk%rhs(:, :, :, 1:sim%nflow), blk%offset, wall, &
-            vwall, sim%work, nf, failed)
+          do p = 1, sim%nphase
+            off = (p - 1) * sim%nflow
+            call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
+              blk%q(:, :, :, off + 1:off + sim%nflow), &
+              blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
+              nf, failed)
+          end do
           if (failed) exit
           if (sim%ls%n > 0) call levelset_rates(sim, b)
           call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, blk%q, blk%q0, &
             blk%rhs)
-          if (sim%has_strength) call plastic_correction(sim%lay, sim%eos, sim%st, &
-            sim%cfg%thermal, sim%dt, blk%q)
-          if (sim%ls%n > 0) call gfm_rest(sim%lay, sim%eos, sim%ls, sim%nflow, sim%rest, &
-            blk%q, sim%gwork)
+          do p = 1, sim%nphase
+            off = (p - 1) * sim%nflow
+            if (sim%strong(p)) call plastic_correction(sim%lay, sim%eos(p), sim%st(p), &
+              sim%cfg%thermal, sim%dt, blk%q(:, :, :, off + 1:off + sim%nflow))
+          end do
+          if (count(sim%ls%kind == ls_material) > 1) call ls_separate(sim%ls, &
+            blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), &
+            sim%ils + 1:sim%nvar))
+          if (sim%ls%n > 0) call gfm_rest(sim%lay, sim%scn, sim%ls, blk%q, sim%gwork)
         end associate
       end do
       call timer_stop(sim%timers, 'fluxes')
@@ -247,7 +257,7 @@ contains
           do k = lbound(q, 3), ubound(q, 3)
             do j = lbound(q, 2), ubound(q, 2)
               do i = lbound(q, 1), ubound(q, 1)
-                q(i, j, k, sim%nflow + l) = body_distance(body, sim%lay%ndim, &
+                q(i, j, k, sim%ils + l) = body_distance(body, sim%lay%ndim, &
                   cell_centre(sim%lay, sim%blocks(b)%offset, i, j, k) &
                   - tstage * sim%ls%velocity(:, l))
               end do
@@ -257,36 +267,40 @@ contains
       end do
     end do
     do b = 1, size(sim%blocks)
-      call gfm_fill(sim%lay, sim%eos, sim%ls, sim%nflow, sim%probe, &
-        ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim)), sim%rest, &
-        sim%blocks(b)%q, sim%gwork, sim%gcount, sim%dormant(b))
+      call gfm_fill(sim%lay, sim%scn, sim%ls, sim%blocks(b)%q, sim%gwork, sim%gcount, &
+        sim%dormant(b))
     end do
     call timer_stop(sim%timers, 'gfm')
     call timer_start(sim%timers, 'halo')
-    call halo_exchange(sim%plan, sim%blocks, sim%nflow)
-    call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nflow, sim%nflow, tstage)
+    call halo_exchange(sim%plan, sim%blocks, sim%ils)
+    call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%ils, sim%nflow, tstage, sim%nphase)
     call timer_stop(sim%timers, 'halo')
   end subroutine ghost_fill
 
-  !> Right-hand sides of the level sets of block b: material and void bodies move with the
-  !> flow's velocity (extended into the ghost band by the fill, so it is an extension
-  !> velocity there), inside the narrow band |phi| <= band dx; rigid ones are set in
-  !> ghost_fill and have no rate.
+  !> Right-hand sides of the level sets of block b: a material body moves with its phase's
+  !> velocity (extended into the ghost band by the fill, so it is an extension velocity
+  !> there), a void body with the velocity of the phase nearest to each cell, inside the
+  !> narrow band |phi| <= band dx; rigid ones are set in ghost_fill and have no rate.
   subroutine levelset_rates(sim, b)
     type(sim_t), intent(inout) :: sim
     integer, intent(in) :: b
-    integer :: l, d, iv
+    integer :: l, iv, p
     real(wp) :: width
     associate (q => sim%blocks(b)%q, rhs => sim%blocks(b)%rhs, n => sim%lay%bsize)
-      do d = 1, 3
-        sim%vel(:, :, :, d) = q(:, :, :, i_mx + d - 1) / q(:, :, :, i_rho)
-      end do
       width = real(sim%cfg%band, wp) * maxval(sim%lay%dx(1:sim%lay%ndim))
+      p = -1
       do l = 1, sim%ls%n
-        iv = sim%nflow + l
+        iv = sim%ils + l
         if (sim%ls%kind(l) == ls_rigid) then
           rhs(:, :, :, iv) = 0.0_wp
           cycle
+        end if
+        if (sim%ls%kind(l) == ls_material) then
+          if (sim%ls%phase(l) /= p) call phase_velocity(sim, b, sim%ls%phase(l))
+          p = sim%ls%phase(l)
+        else
+          if (p /= 0) call phase_velocity(sim, b, 0)
+          p = 0
         end if
         call levelset_advect_rhs(sim%lay%ndim, sim%lay%bsize, sim%lay%ng, sim%lay%dx, &
           q(:, :, :, iv), sim%vel, sim%ls_rhs)
@@ -295,6 +309,37 @@ contains
       end do
     end associate
   end subroutine levelset_rates
+
+  !> sim%vel on the padded block b: the velocity of phase p, or for p = 0 of the phase whose
+  !> composite level set is least at each cell (the phase there, or the nearest one).
+  subroutine phase_velocity(sim, b, p)
+    type(sim_t), intent(inout) :: sim
+    integer, intent(in) :: b, p
+    integer :: d, m, off, lo(3), hi(3)
+    associate (q => sim%blocks(b)%q, w => sim%gwork)
+      if (p > 0 .or. sim%nphase == 1) then
+        off = (max(p, 1) - 1) * sim%nflow
+        do d = 1, 3
+          sim%vel(:, :, :, d) = q(:, :, :, off + i_mx + d - 1) / q(:, :, :, off + i_rho)
+        end do
+        return
+      end if
+      lo = 1 - sim%lay%ng
+      hi = sim%lay%bsize + sim%lay%ng
+      do m = 1, sim%nphase
+        call ls_region(sim%ls, m, lo, hi, q(:, :, :, sim%ils + 1:sim%nvar), &
+          w%bigphi(:, :, :, m), w%owner(:, :, :, m))
+      end do
+      sim%vel = 0.0_wp
+      do m = sim%nphase, 1, -1
+        off = (m - 1) * sim%nflow
+        do d = 1, 3
+          where (w%bigphi(:, :, :, m) <= minval(w%bigphi, 4)) sim%vel(:, :, :, d) = &
+            q(:, :, :, off + i_mx + d - 1) / q(:, :, :, off + i_rho)
+        end do
+      end do
+    end associate
+  end subroutine phase_velocity
 
   !> Reinitialise the level sets of material and void bodies to signed distances
   !> (m_levelset_reinit): band pseudo-steps of half a cell, so the distance is rebuilt out to
@@ -312,24 +357,26 @@ contains
     call timer_start(sim%timers, 'reinit')
     lo = 1 - sim%lay%ng
     hi = sim%lay%bsize + sim%lay%ng
-    call halo_exchange(sim%plan, sim%blocks, sim%nvar, sim%nflow + 1)
-    call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, sim%time)
+    call halo_exchange(sim%plan, sim%blocks, sim%nvar, sim%ils + 1)
+    call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, sim%time, &
+      sim%nphase)
     allocate(phi0(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nls, size(sim%blocks)))
     allocate(old(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
     do b = 1, size(sim%blocks)
-      phi0(:, :, :, :, b) = sim%blocks(b)%q(:, :, :, sim%nflow + 1:sim%nvar)
+      phi0(:, :, :, :, b) = sim%blocks(b)%q(:, :, :, sim%ils + 1:sim%nvar)
     end do
     dtau = 0.5_wp * minval(sim%lay%dx(1:sim%lay%ndim))
     do it = 1, sim%cfg%band
       do stage = 1, 3
         if (it > 1 .or. stage > 1) then
-          call halo_exchange(sim%plan, sim%blocks, sim%nvar, sim%nflow + 1)
-          call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, sim%time)
+          call halo_exchange(sim%plan, sim%blocks, sim%nvar, sim%ils + 1)
+          call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, sim%time, &
+            sim%nphase)
         end if
         do b = 1, size(sim%blocks)
           do l = 1, nls
             if (sim%ls%kind(l) == ls_rigid) cycle
-            iv = sim%nflow + l
+            iv = sim%ils + l
             call save_or_restore(b, l, stage)
             call levelset_reinit_step(sim%lay%ndim, sim%lay%bsize, sim%lay%ng, sim%lay%dx, &
               phi0(:, :, :, l, b), stage, dtau, sim%blocks(b)%q(:, :, :, iv), old, &
@@ -347,12 +394,12 @@ contains
     ! steps)
     subroutine save_or_restore(bb, ll, st)
       integer, intent(in) :: bb, ll, st
-      if (st > 1) old = sim%blocks(bb)%rhs(:, :, :, sim%nflow + ll)
+      if (st > 1) old = sim%blocks(bb)%rhs(:, :, :, sim%ils + ll)
     end subroutine save_or_restore
 
     subroutine keep_rk(bb, ll)
       integer, intent(in) :: bb, ll
-      sim%blocks(bb)%rhs(:, :, :, sim%nflow + ll) = old
+      sim%blocks(bb)%rhs(:, :, :, sim%ils + ll) = old
     end subroutine keep_rk
 
   end subroutine reinitialise

@@ -92,7 +92,7 @@ contains
   subroutine write_run_header(s)
     type(sim_t), intent(in) :: s
     character(len=line_len) :: line
-    integer :: nb
+    integer :: nb, k, l
     call log_line('SABRE run: ' // trim(s%cfg%title))
     call log_line('deck: ' // trim(s%cfg%deck_file) // '  (resolved copy: ' // &
       trim(s%cfg%out_dir) // '/deck.nml)')
@@ -108,8 +108,15 @@ contains
     write(line, '(a,a,a,a,a,i0,a,f5.3)') 'numerics: scheme ', trim(s%cfg%scheme), ', flux ', &
       trim(s%cfg%flux), ', rk_order ', s%cfg%rk_order, ', cfl ', s%cfg%cfl
     call log_line(line)
-    call log_line('material: ' // trim(s%material) // ' (eos ' // &
-      trim(eos_name(s)) // ')')
+    do k = 1, s%nphase
+      write(line, '(a,i0,a)') 'phase ', k, ': material ' // trim(s%material(k)) // ' (eos ' // &
+        trim(eos_name(s, k)) // ')'
+      if (k == 1 .and. s%ls%base_flows) line = trim(line) // ', the base'
+      do l = 1, s%ls%n
+        if (s%ls%phase(l) == k) line = trim(line) // ', body ' // trim(s%ls%name(l))
+      end do
+      call log_line(line)
+    end do
     call log_line('effects: strength ' // trim(s%strength_reason))
     if (s%has_strength .and. s%cfg%thermal) then
       call log_line('effects: thermal on: temperature from the EOS less elastic and stored ' // &
@@ -124,11 +131,14 @@ contains
     call log_line('effects: interfaces ' // trim(interfaces_reason(s)))
     if (s%has_strength) then
       write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
-        'rho w, rho E, rho S (6), rho eps_p, rho w_c)'
+        'rho w, rho E, rho S (6), rho eps_p, rho w_c'
     else
       write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
-        'rho w, rho E)'
+        'rho w, rho E'
     end if
+    if (s%nphase > 1) write(line, '(a,a,i0,a)') trim(line), ' per phase x ', s%nphase, ' phases'
+    if (s%ls%n > 0) write(line, '(a,a,i0,a)') trim(line), '; ', s%ls%n, ' level sets'
+    line = trim(line) // ')'
     call log_line(line)
   end subroutine write_run_header
 
@@ -137,27 +147,29 @@ contains
     type(sim_t), intent(in) :: s
     character(len=line_len) :: text
     character(len=*), parameter :: class_name(3) = [character(len=24) :: &
-      'free surface (MVI)', 'void, free surface (MVI)', 'rigid (MRI)']
+      'free surface / contact', 'void, free surface (MVI)', 'rigid (MRI)']
     integer :: l
     if (s%ls%n == 0) then
       text = 'off: no body of another material, void or rigid'
       return
     end if
-    write(text, '(a,i0,a,i0,a)') 'on: ', s%ls%n, ' level sets, probe ' // trim(s%cfg%gfm_probe) &
-      // ', band ', s%cfg%band, ' cells:'
+    write(text, '(a,i0,a,i0,a,f4.2,a)') 'on: ', s%ls%n, ' level sets, probe ' // &
+      trim(s%cfg%gfm_probe) // ', band ', s%cfg%band, ' cells, contact kappa ', &
+      s%cfg%contact_kappa, ':'
     do l = 1, s%ls%n
       text = trim(text) // ' ' // trim(s%ls%name(l)) // ' ' // trim(class_name(s%ls%kind(l)))
       if (l < s%ls%n) text = trim(text) // ';'
     end do
   end function interfaces_reason
 
-  function eos_name(s) result(name)
+  function eos_name(s, p) result(name)
     type(sim_t), intent(in) :: s
+    integer, intent(in) :: p
     character(len=32) :: name
     integer :: k
     name = ''
     do k = 1, s%cfg%n_materials
-      if (s%cfg%materials(k)%name == s%material) name = s%cfg%materials(k)%eos
+      if (s%cfg%materials(k)%name == s%material(p)) name = s%cfg%materials(k)%eos
     end do
   end function eos_name
 
@@ -180,6 +192,10 @@ contains
         comm_sum(s%gcount%least_squares), ' least squares, ', comm_sum(s%gcount%mean), &
         ' mean of neighbours, ', comm_sum(s%gcount%unfilled), ' without a real neighbour, ', &
         comm_sum(s%gcount%limited), ' ghost pressures limited'
+      call log_line(line)
+      write(line, '(a,i0,a,i0,a)') 'gfm: ', comm_sum(s%gcount%mmi), &
+        ' ghosts across a material-material interface (MMI), ', &
+        comm_sum(s%gcount%separated), ' contact ghosts in tension treated as free surfaces'
       call log_line(line)
       write(line, '(a,f9.3,a,f9.3,a)') 'gfm: ghost fill ', &
         comm_max(timer_total(s%timers, 'gfm')), ' s, reinitialisation ', &

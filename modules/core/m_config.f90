@@ -103,6 +103,7 @@ module m_config
     character(len=name_len) :: gfm_probe = 'auto'
     integer :: reinit_every = 5
     integer :: band = 6
+    real(wp) :: contact_kappa = 1.0_wp    !< bodies closer than 2 kappa dx are in contact
     ! &physics (switches for later effects; resolved against the materials)
     logical :: strength = .false.
     logical :: thermal = .false.

@@ -1,11 +1,14 @@
-!> The ghost-fluid method on one block (DESIGN sections 1 and 5, manual/interfaces.md): the
-!> cells of the computed region (Phi < 0, m_levelset_bodies) are real; every cell of the
-!> block interior with 0 < Phi <= width (3.5 cells: the reach of the ENO3 and WENO5
+!> The ghost-fluid method on one block (DESIGN sections 1 and 5, manual/interfaces.md). Each
+!> phase (the base material, each material body) has a state of its own; the cells of its
+!> region (Phi_p < 0, m_levelset_bodies) are real; every cell of the
+!> block interior with 0 < Phi_p <= width (3.5 cells: the reach of the ENO3 and WENO5
 !> stencils of the real cells next to the surface) is a ghost, filled from the image point
 !>   IP1 = x_P - 2 Phi n,  n = grad Phi / |grad Phi|  (out of the material)
 !> (brought closer, but not nearer than the surface, where IP1's stencil would leave the
 !> padded block)
-!> by its boundary class: MVI at a free (void) surface, MRI at rigid body l. The value at IP1
+!> by its boundary class: MVI at a free (void) surface, MRI at rigid body l, MMI where the
+!> other side is another phase (the base material, or a body within kappa dx: a collision;
+!> the partner's state is read at the ghost cell itself). The value at IP1
 !> comes from m_gfm_probe: 'trilinear', 'least_squares', or 'auto' (trilinear where its
 !> stencil is complete, least squares elsewhere). Cells beyond the band hold a rest state
 !> (rest density and pressure, at rest, no stress): they are never read by a real cell's
@@ -17,13 +20,14 @@ module m_gfm
   use m_eos, only: eos_t, eos_energy, eos_sound_speed2
   use m_euler, only: primitive_row
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler
-  use m_levelset_bodies, only: ls_set_t, ls_region
+  use m_levelset_bodies, only: ls_set_t, ls_region, ls_material
   use m_gfm_probe, only: probe_trilinear, probe_least_squares
   use m_gfm_mvi, only: gfm_mvi
   use m_gfm_mri, only: gfm_mri
+  use m_gfm_mmi, only: gfm_mmi
   implicit none
   private
-  public :: gfm_work_t, gfm_work_init, gfm_fill, gfm_rest, gfm_counts_t
+  public :: gfm_work_t, gfm_work_init, gfm_fill, gfm_rest, gfm_counts_t, gfm_scene_t
   public :: probe_kind_trilinear, probe_kind_least_squares, probe_kind_auto, probe_from_name
 
   integer, parameter :: probe_kind_trilinear = 1, probe_kind_least_squares = 2
@@ -36,15 +40,27 @@ module m_gfm
     integer(i8) :: incomplete = 0   !< trilinear probes used with an incomplete stencil
     integer(i8) :: unfilled = 0     !< ghosts with no real cell near their image: rest state
     integer(i8) :: limited = 0      !< ghost pressure replaced by the image pressure
+    integer(i8) :: mmi = 0          !< ghosts filled across a material-material interface
+    integer(i8) :: separated = 0    !< colliding ghosts with tension: treated as free
   end type gfm_counts_t
 
   type :: gfm_work_t
-    real(wp), allocatable :: w(:, :, :, :)     !< primitive states (padded block, nflow)
-    real(wp), allocatable :: bigphi(:, :, :)   !< composite level set Phi
-    integer, allocatable :: owner(:, :, :)     !< 0 free surface, l rigid body l
-    logical, allocatable :: isreal(:, :, :)
+    real(wp), allocatable :: w(:, :, :, :, :)  !< primitive states (padded block, nflow, phase)
+    real(wp), allocatable :: bigphi(:, :, :, :) !< composite level set Phi_p of each phase
+    integer, allocatable :: owner(:, :, :, :)  !< boundary owner (m_levelset_bodies)
+    logical, allocatable :: isreal(:, :, :, :)
     real(wp), allocatable :: row(:)
   end type gfm_work_t
+
+  !> What the fill of one block needs to know of the phases and the scene.
+  type :: gfm_scene_t
+    type(eos_t), allocatable :: eos(:)     !< equation of state of each phase
+    real(wp), allocatable :: shear(:)      !< shear modulus of each phase (0: no strength)
+    real(wp), allocatable :: rest(:, :)    !< (2, phase): rest density and pressure
+    integer :: nflow = n_euler, probe = probe_kind_auto
+    real(wp) :: band = 0.0_wp              !< ghost band width (m): 3.5 cells
+    real(wp) :: contact = 0.0_wp           !< kappa dx: largest gap of a collision (m)
+  end type gfm_scene_t
 
 contains
 
@@ -60,64 +76,103 @@ contains
     end select
   end function probe_from_name
 
-  subroutine gfm_work_init(lay, nflow, work)
+  subroutine gfm_work_init(lay, nflow, nphase, work)
     type(layout_t), intent(in) :: lay
-    integer, intent(in) :: nflow
+    integer, intent(in) :: nflow, nphase
     type(gfm_work_t), intent(out) :: work
     integer :: lo(3), hi(3)
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
-    allocate(work%w(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nflow))
-    allocate(work%bigphi(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-    allocate(work%owner(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-    allocate(work%isreal(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+    allocate(work%w(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nflow, nphase))
+    allocate(work%bigphi(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nphase))
+    allocate(work%owner(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nphase))
+    allocate(work%isreal(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nphase))
     allocate(work%row(lo(1):hi(1)))
   end subroutine gfm_work_init
 
-  !> Fill the ghost band of the block interior and put the rest state beyond it. q holds the
-  !> nflow flow variables followed by the level sets; its halo must be current.
-  subroutine gfm_fill(lay, eos, set, nflow, probe, band, rest, q, work, counts, dormant)
+  !> Fill the ghost bands of every phase in the block interior and put each phase's rest
+  !> state beyond its band. q holds the nflow flow variables of each phase in turn, then the
+  !> level sets; its halo must be current.
+  subroutine gfm_fill(lay, scn, set, q, work, counts, dormant)
     type(layout_t), intent(in) :: lay
-    type(eos_t), intent(in) :: eos
+    type(gfm_scene_t), intent(in) :: scn
     type(ls_set_t), intent(in) :: set
-    integer, intent(in) :: nflow, probe
-    real(wp), intent(in) :: band         !< ghost band width (m): 3.5 cells
-    real(wp), intent(in) :: rest(2)      !< rest density and pressure
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     type(gfm_work_t), intent(inout) :: work
     type(gfm_counts_t), intent(inout) :: counts
-    logical, intent(out) :: dormant   !< every cell, halo included, lies beyond the band
-    integer :: lo(3), hi(3), i, j, k, m, nr, npts, d, nd, k3(3)
-    real(wp) :: qrest(nflow)
-    real(wp) :: grad(3), s(3), wi(nflow), wg(nflow), c2(1), phi_p, dist
-    logical :: complete
+    logical, intent(out) :: dormant   !< every cell, halo included, lies beyond every band
+    integer :: lo(3), hi(3), j, k, p, nflow, ils
+    logical :: busy(set%nphase)
+    nflow = scn%nflow
+    ils = set%nphase * nflow
+    lo = 1 - lay%ng
+    hi = lay%bsize + lay%ng
+    do p = 1, set%nphase
+      call ls_region(set, p, lo, hi, q(:, :, :, ils+1:ils+set%n), work%bigphi(:, :, :, p), &
+        work%owner(:, :, :, p))
+      work%isreal(:, :, :, p) = work%bigphi(:, :, :, p) < 0.0_wp
+      ! a phase with no cell of the interior outside its region has nothing to fill
+      busy(p) = .not. all(work%isreal(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), p))
+    end do
+    dormant = all(work%bigphi > scn%band)
+    if (.not. any(busy)) return
+    do p = 1, set%nphase
+      call primitives(p)
+    end do
+    do p = 1, set%nphase
+      if (.not. busy(p)) cycle
+      call fill_phase(lay, scn, set, p, q, work, counts)
+    end do
+
+  contains
+
+    subroutine primitives(pp)
+      integer, intent(in) :: pp
+      integer :: m, nr, off
+      nr = hi(1) - lo(1) + 1
+      off = (pp - 1) * nflow
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          call primitive_row(scn%eos(pp), nr, q(:, j, k, off+i_rho), q(:, j, k, off+i_mx), &
+            q(:, j, k, off+i_my), q(:, j, k, off+i_mz), q(:, j, k, off+i_en), &
+            work%w(:, j, k, 1, pp), work%w(:, j, k, 2, pp), work%w(:, j, k, 3, pp), &
+            work%w(:, j, k, 4, pp), work%w(:, j, k, 5, pp), work%row)
+          do m = n_euler + 1, nflow
+            work%w(:, j, k, m, pp) = q(:, j, k, off+m) / q(:, j, k, off+i_rho)
+          end do
+        end do
+      end do
+    end subroutine primitives
+
+  end subroutine gfm_fill
+
+  !> The ghost band of phase p (work holds every phase's primitives, regions and owners).
+  subroutine fill_phase(lay, scn, set, p, q, work, counts)
+    type(layout_t), intent(in) :: lay
+    type(gfm_scene_t), intent(in) :: scn
+    type(ls_set_t), intent(in) :: set
+    integer, intent(in) :: p
+    real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    type(gfm_work_t), intent(inout) :: work
+    type(gfm_counts_t), intent(inout) :: counts
+    integer :: lo(3), hi(3), i, j, k, npts, d, nd, k3(3), nflow, off, pk, o
+    real(wp) :: qrest(scn%nflow), grad(3), s(3), wi(scn%nflow), wg(scn%nflow), wk(scn%nflow)
+    real(wp) :: c2(1), phi_p, dist, pstar
+    logical :: complete, collision
+    nflow = scn%nflow
+    off = (p - 1) * nflow
     nd = lay%ndim
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
-    nr = hi(1) - lo(1) + 1
-    call ls_region(set, lo, hi, q(:, :, :, nflow+1:nflow+set%n), work%bigphi, work%owner)
-    work%isreal = work%bigphi < 0.0_wp
-    dormant = all(work%bigphi > band)
-    ! a block with no cell outside the computed region has nothing to fill
-    if (all(work%isreal(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3)))) return
-    qrest = rest_state(eos, nflow, rest)
-    do k = lo(3), hi(3)
-      do j = lo(2), hi(2)
-        call primitive_row(eos, nr, q(:, j, k, i_rho), q(:, j, k, i_mx), q(:, j, k, i_my), &
-          q(:, j, k, i_mz), q(:, j, k, i_en), work%w(:, j, k, 1), work%w(:, j, k, 2), &
-          work%w(:, j, k, 3), work%w(:, j, k, 4), work%w(:, j, k, 5), work%row)
-        do m = n_euler + 1, nflow
-          work%w(:, j, k, m) = q(:, j, k, m) / q(:, j, k, i_rho)
-        end do
-      end do
-    end do
+    qrest = rest_state(scn%eos(p), nflow, scn%rest(:, p))
+    ! (no associate names for the sections of work: they would start at 1, not at lo)
     do k = 1, lay%bsize(3)
       do j = 1, lay%bsize(2)
         do i = 1, lay%bsize(1)
-          phi_p = work%bigphi(i, j, k)
+          phi_p = work%bigphi(i, j, k, p)
           if (phi_p < 0.0_wp) cycle
-          if (phi_p > band) then
-            q(i, j, k, 1:nflow) = qrest
+          if (phi_p > scn%band) then
+            q(i, j, k, off+1:off+nflow) = qrest
             cycle
           end if
           counts%ghosts = counts%ghosts + 1
@@ -132,51 +187,133 @@ contains
           ! block (a ghost near the block's edge): never below Phi, the surface itself
           dist = 2.0_wp * phi_p
           do d = 1, nd
-            if (grad(d) > 0.0_wp) dist = min(dist, real(k3(d) - lo(d) - 1, wp) * lay%dx(d) &
-              / grad(d))
-            if (grad(d) < 0.0_wp) dist = min(dist, real(k3(d) - hi(d) + 1, wp) * lay%dx(d) &
-              / grad(d))
+            if (grad(d) > 0.0_wp) dist = min(dist, real(k3(d) - lo(d) - 1, wp) &
+              * lay%dx(d) / grad(d))
+            if (grad(d) < 0.0_wp) dist = min(dist, real(k3(d) - hi(d) + 1, wp) &
+              * lay%dx(d) / grad(d))
           end do
           dist = max(dist, phi_p)
           s = real([i, j, k], wp)
           s(1:nd) = s(1:nd) - dist * grad(1:nd) / lay%dx(1:nd)
-          complete = .false.
-          if (probe /= probe_kind_least_squares) then
-            call probe_trilinear(nd, lo, hi, work%w, work%isreal, s, wi, complete)
-            if (complete .or. probe == probe_kind_trilinear) then
-              counts%trilinear = counts%trilinear + 1
-              if (.not. complete) counts%incomplete = counts%incomplete + 1
-            end if
+          if (.not. probe_image(work%w(:, :, :, :, p), work%isreal(:, :, :, p), s, wi)) then
+            counts%unfilled = counts%unfilled + 1
+            q(i, j, k, off+1:off+nflow) = qrest
+            cycle
           end if
-          if (.not. complete .and. probe /= probe_kind_trilinear) then
-            call probe_least_squares(nd, lo, hi, work%w, work%isreal, s, wi, npts)
-            if (npts > 0) counts%least_squares = counts%least_squares + 1
-            if (npts < 0) counts%mean = counts%mean + 1
-            if (npts == 0) then
-              counts%unfilled = counts%unfilled + 1
-              q(i, j, k, 1:nflow) = qrest
-              cycle
-            end if
+          o = work%owner(i, j, k, p)
+          pk = 0
+          if (o < 0) call partner(-o, pk, collision)
+          if (pk > 0) then
+            if (.not. partner_state(pk)) pk = 0
           end if
-          if (work%owner(i, j, k) == 0) then
-            call gfm_mvi(nd, grad, wi, wg)
+          if (o > 0) then
+            call gfm_mri(nd, grad, set%velocity(:, o), wi, wg)
+          else if (pk > 0) then
+            call mmi_ghost()
           else
-            call gfm_mri(nd, grad, set%velocity(:, work%owner(i, j, k)), wi, wg)
+            call gfm_mvi(nd, grad, wi, wg)
           end if
-          call eos_sound_speed2(eos, 1, wg(1:1), wg(5:5), c2)
+          call eos_sound_speed2(scn%eos(p), 1, wg(1:1), wg(5:5), c2)
           if (.not. (wg(1) > 0.0_wp .and. c2(1) > 0.0_wp)) then
             counts%limited = counts%limited + 1
-            wg(1) = max(wg(1), wi(1), rest(1) * 1.0e-6_wp)
+            wg(1) = max(wg(1), wi(1), scn%rest(1, p) * 1.0e-6_wp)
             wg(5) = wi(5)
-            call eos_sound_speed2(eos, 1, wg(1:1), wg(5:5), c2)
-            if (.not. c2(1) > 0.0_wp) wg(1:5) = [rest(1), wg(2:4), rest(2)]
+            call eos_sound_speed2(scn%eos(p), 1, wg(1:1), wg(5:5), c2)
+            if (.not. c2(1) > 0.0_wp) wg(1:5) = [scn%rest(1, p), wg(2:4), scn%rest(2, p)]
           end if
-          call put_state(eos, wg, q(i, j, k, 1:nflow))
+          call put_state(scn%eos(p), wg, q(i, j, k, off+1:off+nflow))
         end do
       end do
     end do
 
   contains
+
+    !> the value of this phase at the image point s, by the run's probe
+    logical function probe_image(w, isreal, sp, val) result(found)
+      real(wp), intent(in) :: w(lo(1):, lo(2):, lo(3):, :), sp(3)
+      logical, intent(in) :: isreal(lo(1):, lo(2):, lo(3):)
+      real(wp), intent(out) :: val(:)
+      found = .true.
+      complete = .false.
+      if (scn%probe /= probe_kind_least_squares) then
+        call probe_trilinear(nd, lo, hi, w, isreal, sp, val, complete)
+        if (complete .or. scn%probe == probe_kind_trilinear) then
+          counts%trilinear = counts%trilinear + 1
+          if (.not. complete) counts%incomplete = counts%incomplete + 1
+          return
+        end if
+      end if
+      call probe_least_squares(nd, lo, hi, w, isreal, sp, val, npts)
+      if (npts > 0) counts%least_squares = counts%least_squares + 1
+      if (npts < 0) counts%mean = counts%mean + 1
+      found = npts /= 0
+    end function probe_image
+
+    !> The phase across the surface of material body l at this ghost: for the base phase the
+    !> body's phase; for a body, the nearest other body if the gap to it, (phi_l + phi_m) / 2,
+    !> is below kappa dx (a collision), else the base phase if it flows, else none (void).
+    subroutine partner(l, pp, coll)
+      integer, intent(in) :: l
+      integer, intent(out) :: pp
+      logical, intent(out) :: coll
+      integer :: m, ils
+      real(wp) :: best
+      coll = .false.
+      if (set%base_flows .and. p == 1) then
+        pp = set%phase(l)
+        return
+      end if
+      ils = set%nphase * nflow
+      pp = 0
+      best = huge(1.0_wp)
+      do m = 1, set%n
+        if (set%kind(m) /= ls_material .or. set%phase(m) == p) cycle
+        if (q(i, j, k, ils + m) < best) then
+          best = q(i, j, k, ils + m)
+          pp = set%phase(m)
+        end if
+      end do
+      coll = pp > 0 .and. abs(q(i, j, k, ils + l) + best) < 2.0_wp * scn%contact
+      if (coll) return
+      pp = 0
+      if (set%base_flows) pp = 1
+    end subroutine partner
+
+    !> the partner's state at the ghost cell: its own value where the cell is real for it,
+    !> else a least-squares fit of its real cells around the cell
+    logical function partner_state(pp) result(found)
+      integer, intent(in) :: pp
+      integer :: n
+      found = .true.
+      if (work%isreal(i, j, k, pp)) then
+        wk = work%w(i, j, k, :, pp)
+        return
+      end if
+      call probe_least_squares(nd, lo, hi, work%w(:, :, :, :, pp), work%isreal(:, :, :, pp), &
+        real([i, j, k], wp), wk, n)
+      found = n /= 0
+    end function partner_state
+
+    subroutine mmi_ghost()
+      real(wp) :: c2k(1), c2i(1), zi, zk
+      call eos_sound_speed2(scn%eos(p), 1, wi(1:1), wi(5:5), c2i)
+      call eos_sound_speed2(scn%eos(pk), 1, wk(1:1), wk(5:5), c2k)
+      if (.not. (c2i(1) > 0.0_wp .and. c2k(1) > 0.0_wp .and. wi(1) > 0.0_wp &
+          .and. wk(1) > 0.0_wp)) then
+        call gfm_mvi(nd, grad, wi, wg)
+        return
+      end if
+      zi = sqrt(wi(1) * (wi(1) * c2i(1) + 4.0_wp / 3.0_wp * scn%shear(p)))
+      zk = sqrt(wk(1) * (wk(1) * c2k(1) + 4.0_wp / 3.0_wp * scn%shear(pk)))
+      call gfm_mmi(nd, grad, wi, wk, zi, zk, c2i(1), scn%shear(p) > 0.0_wp, wg, pstar)
+      if (collision .and. .not. pstar > 0.0_wp) then
+        ! bodies pulling apart: a free surface
+        counts%separated = counts%separated + 1
+        call gfm_mvi(nd, grad, wi, wg)
+        return
+      end if
+      counts%mmi = counts%mmi + 1
+    end subroutine mmi_ghost
 
     !> d Phi / dx_d at (i, j, k) by central differences (one-sided at the array's edge)
     real(wp) function central(dd) result(g)
@@ -186,35 +323,38 @@ contains
       b = a
       a(dd) = min(a(dd) + 1, hi(dd))
       b(dd) = max(b(dd) - 1, lo(dd))
-      g = (work%bigphi(a(1), a(2), a(3)) - work%bigphi(b(1), b(2), b(3))) &
+      g = (work%bigphi(a(1), a(2), a(3), p) - work%bigphi(b(1), b(2), b(3), p)) &
         / (real(a(dd) - b(dd), wp) * lay%dx(dd))
     end function central
 
-  end subroutine gfm_fill
+  end subroutine fill_phase
 
   !> After a stage update: every interior cell outside the computed region goes to the rest
   !> state, so that no stale ghost value is taken for a state (the time step, the
   !> admissibility test and the totals read real cells and rest states only).
-  subroutine gfm_rest(lay, eos, set, nflow, rest, q, work)
+  subroutine gfm_rest(lay, scn, set, q, work)
     type(layout_t), intent(in) :: lay
-    type(eos_t), intent(in) :: eos
+    type(gfm_scene_t), intent(in) :: scn
     type(ls_set_t), intent(in) :: set
-    integer, intent(in) :: nflow
-    real(wp), intent(in) :: rest(2)
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     type(gfm_work_t), intent(inout) :: work
-    integer :: lo(3), hi(3), i, j, k
-    real(wp) :: qrest(nflow)
+    integer :: lo(3), hi(3), i, j, k, p, off, ils
+    real(wp) :: qrest(scn%nflow)
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
-    call ls_region(set, lo, hi, q(:, :, :, nflow+1:nflow+set%n), work%bigphi, work%owner)
-    if (all(work%bigphi(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3)) < 0.0_wp)) return
-    qrest = rest_state(eos, nflow, rest)
-    do k = 1, lay%bsize(3)
-      do j = 1, lay%bsize(2)
-        do i = 1, lay%bsize(1)
-          if (work%bigphi(i, j, k) < 0.0_wp) cycle
-          q(i, j, k, 1:nflow) = qrest
+    ils = set%nphase * scn%nflow
+    do p = 1, set%nphase
+      off = (p - 1) * scn%nflow
+      call ls_region(set, p, lo, hi, q(:, :, :, ils+1:ils+set%n), work%bigphi(:, :, :, p), &
+        work%owner(:, :, :, p))
+      if (all(work%bigphi(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), p) < 0.0_wp)) cycle
+      qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))
+      do k = 1, lay%bsize(3)
+        do j = 1, lay%bsize(2)
+          do i = 1, lay%bsize(1)
+            if (work%bigphi(i, j, k, p) < 0.0_wp) cycle
+            q(i, j, k, off+1:off+scn%nflow) = qrest
+          end do
         end do
       end do
     end do

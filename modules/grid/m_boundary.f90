@@ -75,22 +75,26 @@ contains
     end if
   end subroutine side_condition
 
-  !> Halos of variables 1..nvar at the domain's sides; the first nflow are the flow variables
-  !> (the stress among them changes sign in a mirror), the others scalars (level sets).
-  subroutine boundary_apply(lay, bc, blocks, nvar, nflow, time)
+  !> Halos of variables 1..nvar at the domain's sides; the first nphase (default 1) groups of
+  !> nflow are the flow variables of each phase (the stress among them changes sign in a
+  !> mirror), the others scalars (level sets).
+  subroutine boundary_apply(lay, bc, blocks, nvar, nflow, time, nphase)
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
     type(block_t), intent(inout) :: blocks(:)
     integer, intent(in) :: nvar, nflow
     real(wp), intent(in) :: time
-    integer :: b, d, s, kind
+    integer, intent(in), optional :: nphase
+    integer :: b, d, s, kind, np
     real(wp) :: vwall
+    np = 1
+    if (present(nphase)) np = nphase
     do b = 1, size(blocks)
       call clamp_fill(lay, blocks(b), nvar)
       do d = 1, lay%ndim
         do s = -1, 1, 2
           call side_condition(lay, bc, blocks(b)%id, d, s, time, kind, vwall)
-          if (kind /= 0) call face_fill(lay, blocks(b)%q, nvar, nflow, d, s, kind, vwall)
+          if (kind /= 0) call face_fill(lay, blocks(b)%q, nvar, nflow, np, d, s, kind, vwall)
         end do
       end do
     end do
@@ -154,12 +158,12 @@ contains
   !> One face of a block, side s (-1 low, +1 high) of direction d, over the full extent of
   !> the other directions including their halos: halo cell n + l mirrors cell n + 1 - l
   !> (outflow: copies cell n).
-  subroutine face_fill(lay, q, nvar, nflow, d, s, kind, vwall)
+  subroutine face_fill(lay, q, nvar, nflow, np, d, s, kind, vwall)
     type(layout_t), intent(in) :: lay
-    integer, intent(in) :: nvar, nflow, d, s, kind
+    integer, intent(in) :: nvar, nflow, np, d, s, kind
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(in) :: vwall
-    integer :: lo(3), hi(3), i, j, k, m, n, src(3), imom
+    integer :: lo(3), hi(3), i, j, k, m, n, src(3), imom, p, o
     real(wp) :: rho, un_old, un_new
     n = lay%bsize(d)
     lo = 1 - lay%ng
@@ -183,18 +187,21 @@ contains
             q(i, j, k, m) = q(src(1), src(2), src(3), m)
           end do
           if (kind == bc_outflow) cycle
-          if (nflow > n_euler) then
-            ! mirror in direction d: the shear stresses S_dt change sign
-            do m = 1, 3
-              if (m == d) cycle
-              q(i, j, k, stress_index(d, m)) = -q(i, j, k, stress_index(d, m))
-            end do
-          end if
-          rho = q(i, j, k, i_rho)
-          un_old = q(i, j, k, imom) / rho
-          un_new = 2.0_wp * vwall - un_old
-          q(i, j, k, imom) = rho * un_new
-          q(i, j, k, i_en) = q(i, j, k, i_en) + 0.5_wp * rho * (un_new**2 - un_old**2)
+          do p = 1, min(np, nvar / nflow)
+            o = (p - 1) * nflow
+            if (nflow > n_euler) then
+              ! mirror in direction d: the shear stresses S_dt change sign
+              do m = 1, 3
+                if (m == d) cycle
+                q(i, j, k, o + stress_index(d, m)) = -q(i, j, k, o + stress_index(d, m))
+              end do
+            end if
+            rho = q(i, j, k, o + i_rho)
+            un_old = q(i, j, k, o + imom) / rho
+            un_new = 2.0_wp * vwall - un_old
+            q(i, j, k, o + imom) = rho * un_new
+            q(i, j, k, o + i_en) = q(i, j, k, o + i_en) + 0.5_wp * rho * (un_new**2 - un_old**2)
+          end do
         end do
       end do
     end do

@@ -283,11 +283,12 @@ contains
     type(deck_group_t), intent(in) :: g
     type(config_t), intent(inout) :: cfg
     character(len=name_len) :: scheme, flux, gfm_probe
-    real(wp) :: cfl, dt_max
+    real(wp) :: cfl, dt_max, contact_kappa
     integer :: rk_order, reinit_every, band, k, ios
     character(len=:), allocatable :: rec
     character(len=line_len) :: msg
-    namelist /numerics/ scheme, flux, rk_order, cfl, dt_max, gfm_probe, reinit_every, band
+    namelist /numerics/ scheme, flux, rk_order, cfl, dt_max, gfm_probe, reinit_every, band, &
+      contact_kappa
     scheme = cfg%scheme
     flux = cfg%flux
     rk_order = cfg%rk_order
@@ -296,6 +297,7 @@ contains
     gfm_probe = cfg%gfm_probe
     reinit_every = cfg%reinit_every
     band = cfg%band
+    contact_kappa = cfg%contact_kappa
     do k = 1, g%n
       rec = checked_record(base, g%name, numerics_vars, g%assign(k))
       read(rec, nml=numerics, iostat=ios, iomsg=msg)
@@ -309,6 +311,7 @@ contains
     cfg%gfm_probe = to_lower(gfm_probe)
     cfg%reinit_every = reinit_every
     cfg%band = band
+    cfg%contact_kappa = contact_kappa
   end subroutine read_numerics
 
   subroutine read_physics(base, g, cfg)

@@ -41,7 +41,7 @@ module m_deck_check
   real(wp), parameter :: default_taylor_quinney = 0.9_wp
   real(wp), parameter :: default_eps_rate0 = 1.0_wp   !< 1 /s
   character(len=*), parameter :: shapes = 'box, sphere, cylinder, half_space'
-  character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach, ' &
+  character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach, phase, ' &
     // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
   !> the fields that only a deck with strength carries (deviatoric stress, plastic strain,
   !> von Mises stress)
@@ -202,6 +202,9 @@ contains
       // int_text(cfg%reinit_every))
     if (cfg%band < min_block) call bad(base, 'numerics', 'band', 'must be >= 4 cells ' &
       // '(the ghost band is 4 deep), got ' // int_text(cfg%band))
+    if (.not. (cfg%contact_kappa > 0.0_wp .and. cfg%contact_kappa <= 3.0_wp)) &
+      call bad(base, 'numerics', 'contact_kappa', 'must be in (0, 3] (bodies closer than ' &
+      // '2 kappa dx are in contact), got ' // real_text(cfg%contact_kappa))
   end subroutine check_numerics
 
   subroutine check_output(base, cfg)

@@ -134,6 +134,7 @@ contains
       call put(u, 'gfm_probe', quoted(cfg%gfm_probe))
       call put(u, 'reinit_every', int_text(cfg%reinit_every))
       call put(u, 'band', int_text(cfg%band))
+      call put_real(u, 'contact_kappa', cfg%contact_kappa)
       write(u, '(a)') '/', '&physics'
       call put(u, 'strength', logical_text(cfg%strength))
       call put(u, 'thermal', logical_text(cfg%thermal))

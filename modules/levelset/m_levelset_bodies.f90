@@ -1,50 +1,70 @@
-!> The level-set bodies of a scene and the region they leave to the flow (DESIGN sections 1
-!> and 5, manual/interfaces.md). Each body of a material other than the base material, each
-!> void body and each rigid body carries a level set phi_l (negative inside). The computed
-!> region is where the flowing material is: inside some material body (or anywhere, when the
-!> base is that material), outside every void and rigid body. Its composite level set
-!>   Phi = max( min_l phi_l over material bodies (or -huge), max_l -phi_l over void and rigid )
-!> is negative in real cells; the term that attains the maximum says which boundary a ghost
-!> cell (Phi > 0) belongs to: 0 for a free (void) surface, l for rigid body l.
+!> The level-set bodies of a scene and the regions they leave to each phase (DESIGN sections
+!> 1 and 5, manual/interfaces.md). Each body of a material other than the base material, each
+!> void body and each rigid body carries a level set phi_l (negative inside). Every material
+!> body is a phase with a flow state of its own, and so is the base material when it is not
+!> void (phase 1). The region of phase p is where its material is, outside every void and
+!> rigid body; its composite level set
+!>   Phi_p = max( own_p, max_l -phi_l over void and rigid bodies ),
+!>   own_p = phi_l for the phase of material body l,
+!>         = max_l -phi_l over the material bodies for the base phase (or -huge),
+!> is negative in its real cells. The term that attains the maximum says which boundary a
+!> ghost cell (Phi_p > 0) belongs to: owner 0 a void body (free surface), l > 0 rigid body l,
+!> -l the surface of material body l (the phase's own surface, or for the base phase the body
+!> it borders): a material-material interface or, with no partner near, a free surface.
 !> Kernels only: no MPI, no I/O.
 module m_levelset_bodies
   use m_kinds, only: wp, name_len
   implicit none
   private
-  public :: ls_material, ls_void, ls_rigid, ls_set_t, ls_region
+  public :: ls_material, ls_void, ls_rigid, ls_set_t, ls_region, ls_separate
 
   integer, parameter :: ls_material = 1, ls_void = 2, ls_rigid = 3
 
   type :: ls_set_t
     integer :: n = 0                        !< level sets
-    logical :: base_flows = .true.          !< the base material is the flowing one
+    logical :: base_flows = .true.          !< the base material is a phase (phase 1)
+    integer :: nphase = 1                   !< phases: flow states per cell
     integer, allocatable :: kind(:)         !< ls_material | ls_void | ls_rigid
     integer, allocatable :: body(:)         !< index of the body in the deck
+    integer, allocatable :: phase(:)        !< phase of a material body's level set, else 0
     character(len=name_len), allocatable :: name(:)
     real(wp), allocatable :: velocity(:, :) !< (3, n): velocity of a rigid body
   end type ls_set_t
 
 contains
 
-  !> Composite level set bigphi and boundary owner (0 void/free, l rigid body l) of the cells
-  !> of a padded block; phi holds the n level sets on the same shape.
-  subroutine ls_region(set, lo, hi, phi, bigphi, owner)
+  !> Composite level set bigphi and boundary owner of phase p over the cells of a padded
+  !> block; phi holds the n level sets on the same shape.
+  subroutine ls_region(set, p, lo, hi, phi, bigphi, owner)
     type(ls_set_t), intent(in) :: set
-    integer, intent(in) :: lo(3), hi(3)
+    integer, intent(in) :: p, lo(3), hi(3)
     real(wp), intent(in) :: phi(lo(1):, lo(2):, lo(3):, :)
     real(wp), intent(out) :: bigphi(lo(1):, lo(2):, lo(3):)
     integer, intent(out) :: owner(lo(1):, lo(2):, lo(3):)
     integer :: i, j, k, l
     real(wp) :: v, t
+    logical :: base
+    base = set%base_flows .and. p == 1
     do k = lo(3), hi(3)
       do j = lo(2), hi(2)
         do i = lo(1), hi(1)
-          v = merge(-huge(1.0_wp), huge(1.0_wp), set%base_flows)
-          do l = 1, set%n
-            if (set%kind(l) == ls_material .and. .not. set%base_flows) &
-              v = min(v, phi(i, j, k, l))
-          end do
+          v = merge(-huge(1.0_wp), huge(1.0_wp), base)
           owner(i, j, k) = 0
+          do l = 1, set%n
+            if (set%kind(l) /= ls_material) cycle
+            if (base) then
+              t = -phi(i, j, k, l)
+              if (t > v) then
+                v = t
+                owner(i, j, k) = -l
+              end if
+            else if (set%phase(l) == p) then
+              if (phi(i, j, k, l) < v) then
+                v = phi(i, j, k, l)
+                owner(i, j, k) = -l
+              end if
+            end if
+          end do
           do l = 1, set%n
             if (set%kind(l) == ls_material) cycle
             t = -phi(i, j, k, l)
@@ -58,5 +78,38 @@ contains
       end do
     end do
   end subroutine ls_region
+
+  !> Bodies may not overlap: where two material level sets are both negative, both move to
+  !> their mid-surface, phi_l <- phi_l - (phi_a + phi_b) / 2 for the two smallest phi_a,
+  !> phi_b (Losasso et al. 2006), which leaves phi_a = -phi_b: one shared surface. phi holds
+  !> the n level sets of the cells of one array.
+  pure subroutine ls_separate(set, phi)
+    type(ls_set_t), intent(in) :: set
+    real(wp), intent(inout) :: phi(:, :, :, :)
+    integer :: i, j, k, l
+    real(wp) :: a, b, shift
+    do k = 1, size(phi, 3)
+      do j = 1, size(phi, 2)
+        do i = 1, size(phi, 1)
+          a = huge(1.0_wp)
+          b = huge(1.0_wp)
+          do l = 1, set%n
+            if (set%kind(l) /= ls_material) cycle
+            if (phi(i, j, k, l) < a) then
+              b = a
+              a = phi(i, j, k, l)
+            else if (phi(i, j, k, l) < b) then
+              b = phi(i, j, k, l)
+            end if
+          end do
+          if (.not. a + b < 0.0_wp .or. .not. b < 0.0_wp) cycle
+          shift = 0.5_wp * (a + b)
+          do l = 1, set%n
+            if (set%kind(l) == ls_material) phi(i, j, k, l) = phi(i, j, k, l) - shift
+          end do
+        end do
+      end do
+    end do
+  end subroutine ls_separate
 
 end module m_levelset_bodies
