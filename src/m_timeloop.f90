@@ -16,7 +16,7 @@ module m_timeloop
   use m_comm, only: comm_max, comm_any, comm_sum, comm_wtime, comm_bcast, comm_is_root
   use m_errors, only: stop_collective, log_line
   use m_timers, only: timer_start, timer_stop
-  use m_gfm, only: gfm_fill, gfm_rest
+  use m_gfm, only: gfm_fill, gfm_rest, gfm_drop_debris
   use m_levelset_bodies, only: ls_rigid, ls_material, ls_void, ls_separate, ls_region
   use m_levelset_advect, only: levelset_advect_rhs
   use m_levelset_reinit, only: levelset_reinit_step
@@ -228,6 +228,8 @@ contains
           if (count(sim%ls%kind == ls_material) > 1) call ls_separate(sim%ls, &
             blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), &
             sim%ils + 1:sim%nvar))
+          if (any(sim%ls%kind == ls_material)) call gfm_drop_debris(sim%lay, sim%scn, &
+            sim%ls, blk%q, sim%gcount)
           if (sim%ls%n > 0) call gfm_rest(sim%lay, sim%scn, sim%ls, blk%q, sim%gwork)
         end associate
       end do

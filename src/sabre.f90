@@ -197,6 +197,9 @@ contains
         ' ghosts across a material-material interface (MMI), ', &
         comm_sum(s%gcount%separated), ' contact ghosts in tension treated as free surfaces'
       call log_line(line)
+      write(line, '(a,i0,a)') 'gfm: ', comm_sum(s%gcount%debris), ' inadmissible cells ' // &
+        'within 2 cells of a body surface taken out of the body as debris'
+      call log_line(line)
       write(line, '(a,f9.3,a,f9.3,a)') 'gfm: ghost fill ', &
         comm_max(timer_total(s%timers, 'gfm')), ' s, reinitialisation ', &
         comm_max(timer_total(s%timers, 'reinit')), ' s'

@@ -17,7 +17,7 @@
 module m_gfm
   use m_kinds, only: wp, i8
   use m_layout, only: layout_t
-  use m_eos, only: eos_t, eos_energy, eos_sound_speed2
+  use m_eos, only: eos_t, eos_energy, eos_sound_speed2, eos_pressure
   use m_euler, only: primitive_row
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_material
@@ -28,6 +28,7 @@ module m_gfm
   implicit none
   private
   public :: gfm_work_t, gfm_work_init, gfm_fill, gfm_rest, gfm_counts_t, gfm_scene_t
+  public :: gfm_drop_debris
   public :: probe_kind_trilinear, probe_kind_least_squares, probe_kind_auto, probe_from_name
 
   integer, parameter :: probe_kind_trilinear = 1, probe_kind_least_squares = 2
@@ -42,6 +43,7 @@ module m_gfm
     integer(i8) :: limited = 0      !< ghost pressure replaced by the image pressure
     integer(i8) :: mmi = 0          !< ghosts filled across a material-material interface
     integer(i8) :: separated = 0    !< colliding ghosts with tension: treated as free
+    integer(i8) :: debris = 0       !< inadmissible surface cells taken out of a body
   end type gfm_counts_t
 
   type :: gfm_work_t
@@ -359,6 +361,51 @@ contains
       end do
     end do
   end subroutine gfm_rest
+
+  !> Debris: a real cell of a body's phase that the update left inadmissible (rho <= 0,
+  !> c^2 <= 0 or not finite) within two cells of the body's surface is a sliver thinner than
+  !> the mesh can carry (a fragment or a sheet crushed below a cell). It is taken out of the
+  !> body (its level set set to half a cell outside) and holds the rest state; the count goes
+  !> to the run log and history.csv, and the body's mass column shows what was lost. Cells
+  !> deeper inside, and cells of the base phase, are left alone: the step's fallback (or its
+  !> failure) deals with them.
+  subroutine gfm_drop_debris(lay, scn, set, q, counts)
+    type(layout_t), intent(in) :: lay
+    type(gfm_scene_t), intent(in) :: scn
+    type(ls_set_t), intent(in) :: set
+    real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    type(gfm_counts_t), intent(inout) :: counts
+    integer :: i, j, k, l, p, off, ils
+    real(wp) :: w(5), c2(1), e(1), h
+    real(wp) :: qrest(scn%nflow)
+    ils = set%nphase * scn%nflow
+    h = maxval(lay%dx(1:lay%ndim))
+    do l = 1, set%n
+      if (set%kind(l) /= ls_material) cycle
+      p = set%phase(l)
+      off = (p - 1) * scn%nflow
+      qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))
+      do k = 1, lay%bsize(3)
+        do j = 1, lay%bsize(2)
+          do i = 1, lay%bsize(1)
+            if (.not. (q(i, j, k, ils + l) < 0.0_wp .and. q(i, j, k, ils + l) > -2.0_wp * h)) &
+              cycle
+            w(1) = q(i, j, k, off + i_rho)
+            if (w(1) > 0.0_wp .and. abs(q(i, j, k, off + i_en)) <= huge(1.0_wp)) then
+              w(2:4) = q(i, j, k, off + i_mx:off + i_mz) / w(1)
+              e(1) = q(i, j, k, off + i_en) / w(1) - 0.5_wp * sum(w(2:4)**2)
+              call eos_pressure(scn%eos(p), 1, w(1:1), e, w(5:5))
+              call eos_sound_speed2(scn%eos(p), 1, w(1:1), w(5:5), c2)
+              if (c2(1) > 0.0_wp .and. c2(1) <= huge(1.0_wp)) cycle
+            end if
+            counts%debris = counts%debris + 1
+            q(i, j, k, ils + l) = 0.5_wp * h
+            q(i, j, k, off + 1:off + scn%nflow) = qrest
+          end do
+        end do
+      end do
+    end do
+  end subroutine gfm_drop_debris
 
   !> Conserved variables of the rest state (density rest(1), pressure rest(2), at rest, no
   !> stress), computed once per block rather than once per cell.
