@@ -334,15 +334,17 @@ contains
 
   !> The phase of each cell of a row (the one whose composite level set is least there) and
   !> whether the cell is real for it (in its region).
-  subroutine phase_select(sim, qrow, sel, isreal)
+  subroutine phase_select(sim, qrow, sel, isreal, least)
     type(sim_t), intent(in) :: sim
     real(wp), intent(in) :: qrow(:, :)
     integer, intent(out) :: sel(:)
     logical, intent(out) :: isreal(:)
+    real(wp), intent(out), optional :: least(:)   !< the composite level set of that phase
     real(wp) :: bigphi(size(qrow, 1), 1, 1), best(size(qrow, 1))
     integer :: owner(size(qrow, 1), 1, 1), p, nr
     sel = 1
     isreal = .true.
+    if (present(least)) least = -huge(1.0_wp)
     if (sim%ls%n == 0) return
     nr = size(qrow, 1)
     best = huge(1.0_wp)
@@ -355,11 +357,15 @@ contains
       end where
     end do
     isreal = best < 0.0_wp
+    if (present(least)) least = best
   end subroutine phase_select
 
-  !> Mass (real cells inside the body), volume (cells with phi < 0, 2 pi r weighted in
-  !> axisymmetry) and bounding box of level set l; the box edges are the zero crossings of
-  !> phi between neighbouring cells (linear interpolation), so they move smoothly.
+  !> Mass and volume of the body of level set l, and its bounding box. A cell counts with the
+  !> fraction f = min(1, max(0, 1/2 - Phi / h)) of its volume (Phi the composite level set of
+  !> the body's phase, h the largest cell size; 2 pi r weighted in axisymmetry), so that the
+  !> measures move smoothly with the surface rather than by whole rows of cells; the mass
+  !> takes the phase's density there (a ghost value in the outer half cell). The box edges
+  !> are the zero crossings of phi between neighbouring cells (linear interpolation).
   function body_measures(sim, l) result(m)
     type(sim_t), intent(in) :: sim
     integer, intent(in) :: l
@@ -368,7 +374,9 @@ contains
     integer :: b, i, j, k, d, c(3), iv, o
     integer :: sel(sim%lay%bsize(1))
     logical :: isreal(sim%lay%bsize(1))
+    real(wp) :: least(sim%lay%bsize(1)), h, f
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
+    h = maxval(sim%lay%dx(1:sim%lay%ndim))
     iv = sim%ils + l
     o = (sim%ls%phase(l) - 1) * sim%nflow
     vol = product(sim%lay%dx(1:sim%lay%ndim))
@@ -379,16 +387,17 @@ contains
       associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
         do k = 1, sim%lay%bsize(3)
           do j = 1, sim%lay%bsize(2)
-            if (.not. any(q(1:sim%lay%bsize(1), j, k, iv) < 0.0_wp)) cycle
-            call phase_select(sim, q(1:sim%lay%bsize(1), j, k, :), sel, isreal)
-            isreal = isreal .and. sel == sim%ls%phase(l)
+            if (.not. any(q(1:sim%lay%bsize(1), j, k, iv) < 0.5_wp * h)) cycle
+            call phase_select(sim, q(1:sim%lay%bsize(1), j, k, :), sel, isreal, least)
             do i = 1, sim%lay%bsize(1)
-              if (.not. q(i, j, k, iv) < 0.0_wp) cycle
+              if (.not. q(i, j, k, iv) < 0.5_wp * h .or. sel(i) /= sim%ls%phase(l)) cycle
               x = cell_centre(sim%lay, off, i, j, k)
               dv = vol
               if (sim%lay%axisymmetric) dv = vol * two_pi * x(1)
-              m(2) = m(2) + dv
-              if (isreal(i)) m(1) = m(1) + dv * q(i, j, k, o + i_rho)
+              f = min(1.0_wp, max(0.0_wp, 0.5_wp - least(i) / h))
+              m(2) = m(2) + f * dv
+              m(1) = m(1) + f * dv * q(i, j, k, o + i_rho)
+              if (.not. q(i, j, k, iv) < 0.0_wp) cycle
               do d = 1, sim%lay%ndim
                 lo(d) = min(lo(d), x(d))
                 hi(d) = max(hi(d), x(d))
