@@ -17,7 +17,7 @@ module m_timeloop
   use m_errors, only: stop_collective, log_line
   use m_timers, only: timer_start, timer_stop
   use m_gfm, only: gfm_fill, gfm_rest
-  use m_levelset_bodies, only: ls_rigid, ls_material, ls_void
+  use m_levelset_bodies, only: ls_rigid, ls_material, ls_void, ls_region
   use m_levelset_advect, only: levelset_advect_rhs
   use m_levelset_reinit, only: levelset_reinit_step
   use m_scene, only: body_distance, cell_centre
@@ -208,9 +208,19 @@ contains
             end if
           end if
           call boundary_walls(sim%lay, sim%bc, blk, tstage, wall, vwall)
-          call euler_rhs(sim%lay, sim%eos, sim%st, sim%scheme, sim%flux, &
-            blk%q(:, :, :, 1:sim%nflow), blk%rhs(:, :, :, 1:sim%nflow), blk%offset, wall, &
-            vwall, sim%work, nf, failed)
+          if (sim%ls%n > 0 .and. sim%has_strength) then
+            ! the composite level set of the block: which faces join two cells of the solid
+            call ls_region(sim%ls, 1 - sim%lay%ng, sim%lay%bsize + sim%lay%ng, &
+              blk%q(:, :, :, sim%nflow+1:sim%nflow+sim%ls%n), sim%gwork%bigphi, &
+              sim%gwork%owner)
+            call euler_rhs(sim%lay, sim%eos, sim%st, sim%scheme, sim%flux, sim%scalar_flux, &
+              blk%q(:, :, :, 1:sim%nflow), blk%rhs(:, :, :, 1:sim%nflow), blk%offset, wall, &
+              vwall, sim%work, nf, failed, sim%gwork%bigphi)
+          else
+            call euler_rhs(sim%lay, sim%eos, sim%st, sim%scheme, sim%flux, sim%scalar_flux, &
+              blk%q(:, :, :, 1:sim%nflow), blk%rhs(:, :, :, 1:sim%nflow), blk%offset, wall, &
+              vwall, sim%work, nf, failed)
+          end if
           if (failed) exit
           if (sim%ls%n > 0) call levelset_rates(sim, b)
           call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, blk%q, blk%q0, &

@@ -108,6 +108,8 @@ contains
     write(line, '(a,a,a,a,a,i0,a,f5.3)') 'numerics: scheme ', trim(s%cfg%scheme), ', flux ', &
       trim(s%cfg%flux), ', rk_order ', s%cfg%rk_order, ', cfl ', s%cfg%cfl
     call log_line(line)
+    if (s%has_strength) call log_line('numerics: flux of eps_p and w_c ' // &
+      trim(s%cfg%scalar_flux))
     call log_line('material: ' // trim(s%material) // ' (eos ' // &
       trim(eos_name(s)) // ')')
     call log_line('effects: strength ' // trim(s%strength_reason))
