@@ -43,7 +43,7 @@ SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
-UNIT := test_eos test_reconstruct test_halo test_hdf5 test_strength test_levelset test_gfm
+UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset test_gfm
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
 .PHONY: all deps check run verify bench clean unit accuracy stability

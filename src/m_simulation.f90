@@ -15,7 +15,7 @@ module m_simulation
     eos_energy, eos_prepare
   use m_euler, only: euler_work_t, euler_work_init
   use m_reconstruct, only: scheme_from_name
-  use m_flux, only: flux_from_name
+  use m_flux, only: flux_from_name, scalar_flux_from_name
   use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void, ls_rigid, ls_region
   use m_gfm, only: gfm_work_t, gfm_work_init, gfm_counts_t, gfm_scene_t, probe_from_name
@@ -62,6 +62,7 @@ module m_simulation
     logical :: has_strength = .false.  !< the state carries rho S and rho eps_p
     character(len=256) :: strength_reason = ''
     integer :: scheme = 3, flux = 1
+    integer :: scalar_flux = 1         !< solids: flux of rho eps_p, rho w_c (m_flux)
     real(wp) :: time = 0.0_wp, dt = 0.0_wp, dt_first = 0.0_wp
     integer :: step = 0
     integer :: plot_count = 0          !< plot files written so far
@@ -144,6 +145,7 @@ contains
     end if
     sim%scheme = scheme_from_name(cfg%scheme)
     sim%flux = flux_from_name(cfg%flux)
+    sim%scalar_flux = scalar_flux_from_name(cfg%scalar_flux)
 
   contains
 

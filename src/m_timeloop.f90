@@ -211,10 +211,21 @@ contains
           call boundary_walls(sim%lay, sim%bc, blk, tstage, wall, vwall)
           do p = 1, sim%nphase
             off = (p - 1) * sim%nflow
-            call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
-              blk%q(:, :, :, off + 1:off + sim%nflow), &
-              blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
-              nf, failed)
+            if (sim%ls%n > 0 .and. sim%strong(p) .and. sim%cfg%scalar_flux == 'upwind') then
+              ! the composite level set of the phase: which faces join two of its real cells
+              call ls_region(sim%ls, p, 1 - sim%lay%ng, sim%lay%bsize + sim%lay%ng, &
+                blk%q(:, :, :, sim%ils + 1:sim%nvar), sim%gwork%bigphi(:, :, :, p), &
+                sim%gwork%owner(:, :, :, p))
+              call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
+                sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
+                blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
+                nf, failed, sim%gwork%bigphi(:, :, :, p))
+            else
+              call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
+                sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
+                blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
+                nf, failed)
+            end if
           end do
           if (failed) exit
           if (sim%ls%n > 0) call levelset_rates(sim, b)

@@ -108,6 +108,8 @@ contains
     write(line, '(a,a,a,a,a,i0,a,f5.3)') 'numerics: scheme ', trim(s%cfg%scheme), ', flux ', &
       trim(s%cfg%flux), ', rk_order ', s%cfg%rk_order, ', cfl ', s%cfg%cfl
     call log_line(line)
+    if (s%has_strength) call log_line('numerics: flux of eps_p and w_c ' // &
+      trim(s%cfg%scalar_flux))
     do k = 1, s%nphase
       write(line, '(a,i0,a)') 'phase ', k, ': material ' // trim(s%material(k)) // ' (eos ' // &
         trim(eos_name(s, k)) // ')'

@@ -97,6 +97,7 @@ module m_config
     ! &numerics
     character(len=name_len) :: scheme = 'eno3'
     character(len=name_len) :: flux = 'llf'
+    character(len=name_len) :: scalar_flux = 'llf'      !< solids: flux of rho eps_p, rho w_c
     integer :: rk_order = 3
     real(wp) :: cfl = 0.5_wp
     real(wp) :: dt_max = unset               !< optional cap on dt (order studies)

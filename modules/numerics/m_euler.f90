@@ -12,7 +12,7 @@ module m_euler
   use m_kinds, only: wp
   use m_eos, only: eos_t, eos_pressure, eos_energy, eos_sound_speed2, eos_temperature
   use m_reconstruct, only: reconstruct_faces
-  use m_flux, only: face_flux, flux_llf_solid
+  use m_flux, only: face_flux, flux_llf_solid, scalar_flux_upwind
   use m_yield, only: strength_t
   use m_plasticity, only: jaumann_source, radial_return
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid, i_sxx, i_syy, i_szz, &
@@ -32,6 +32,7 @@ module m_euler
     real(wp), allocatable :: wl(:), wr(:), f(:)    !< face states and fluxes (nb, 0:n, 5)
     real(wp), allocatable :: el(:), er(:), cl(:), cr(:)   !< (nb, 0:n)
     real(wp), allocatable :: row(:)
+    logical, allocatable :: up(:)                  !< faces with upwind scalars (nb, 0:n)
   end type euler_work_t
 
 contains
@@ -54,6 +55,7 @@ contains
     allocate(work%el(nbmax * (nmax + 1)), work%er(nbmax * (nmax + 1)))
     allocate(work%cl(nbmax * (nmax + 1)), work%cr(nbmax * (nmax + 1)))
     allocate(work%row(lo(1):hi(1)))
+    allocate(work%up(nbmax * (nmax + 1)))
   end subroutine euler_work_init
 
   !> Primitive variables (rho, u, v, w, p) of one row of cells i = lo..hi.
@@ -78,12 +80,13 @@ contains
   !> rhs = L(q) over the interior of one block; nfallback counts faces that fell back to
   !> first order; failed is set (and the rest skipped) when even the cell values next to a
   !> face are not admissible: the stage cannot go on and the caller recomputes the step.
-  subroutine euler_rhs(lay, eos, st, scheme, flux_kind, q, rhs, offset, wall, vwall, work, &
-      nfallback, failed)
+  subroutine euler_rhs(lay, eos, st, scheme, flux_kind, scalar_kind, q, rhs, offset, wall, &
+      vwall, work, nfallback, failed, bigphi)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st    !< strength (used when q carries the stress)
     integer, intent(in) :: scheme, flux_kind, offset(3)
+    integer, intent(in) :: scalar_kind     !< flux of rho eps_p, rho w_c (m_flux)
     logical, intent(in) :: wall(2, 3)      !< reflecting sides (m_boundary)
     real(wp), intent(in) :: vwall(2, 3)    !< their normal velocities
     real(wp), intent(in) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
@@ -91,6 +94,9 @@ contains
     type(euler_work_t), intent(inout) :: work
     integer, intent(inout) :: nfallback
     logical, intent(inout) :: failed
+    !> composite level set (< 0: a cell of the material; m_levelset_bodies), when there are
+    !> level sets: the scalars of a face next to a ghost keep the LLF flux
+    real(wp), intent(in), optional :: bigphi(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):)
     integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m
     real(wp) :: rdx, r
     lo = 1 - lay%ng
@@ -121,9 +127,10 @@ contains
         nb = lay%bsize(2)
         do k = 1, lay%bsize(3)
           call bundle_x(k, nb, n, g, work%pw)
+          call upwind_faces(d, k, nb, n, work%up)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, &
-            nfallback, failed)
+            vwall(:, d), work%up, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
+            work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_x(k, nb, n, work%f)
         end do
@@ -133,9 +140,10 @@ contains
         nb = lay%bsize(1)
         do k = 1, lay%bsize(3)
           call bundle_y(k, nb, n, g, work%pw)
+          call upwind_faces(d, k, nb, n, work%up)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, &
-            nfallback, failed)
+            vwall(:, d), work%up, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
+            work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_y(k, nb, n, work%f)
         end do
@@ -145,9 +153,10 @@ contains
         nb = lay%bsize(1)
         do j = 1, lay%bsize(2)
           call bundle_z(j, nb, n, g, work%pw)
+          call upwind_faces(d, j, nb, n, work%up)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%pw, work%wl, work%wr, work%el, work%er, work%cl, work%cr, work%f, &
-            nfallback, failed)
+            vwall(:, d), work%up, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
+            work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_z(j, nb, n, work%f)
         end do
@@ -171,6 +180,35 @@ contains
     if (nv > n_euler) call stress_rates(lay, st, offset, work%prim, rhs)
 
   contains
+
+    !> The faces of a bundle whose scalars take the upwind flux (m_flux): all of them with
+    !> scalar_kind upwind and no level sets, else those between two cells of the material.
+    !> A face next to a ghost keeps LLF, whose dissipation there pulls the surface cell
+    !> towards the ghost, i.e. the image state inside (without it, the spurious plastic
+    !> strain the free-surface cells gain, manual/interfaces.md section 4, piles up).
+    subroutine upwind_faces(dd, c0, nbb, nn, up)
+      integer, intent(in) :: dd, c0, nbb, nn
+      logical, intent(out) :: up(nbb, 0:nn)
+      integer :: ii, jj
+      up = scalar_kind == scalar_flux_upwind
+      if (.not. (present(bigphi) .and. scalar_kind == scalar_flux_upwind)) return
+      select case (dd)
+      case (1)   ! x pencils at k = c0, bundled over j
+        do ii = 0, nn
+          do jj = 1, nbb
+            up(jj, ii) = bigphi(ii, jj, c0) < 0.0_wp .and. bigphi(ii + 1, jj, c0) < 0.0_wp
+          end do
+        end do
+      case (2)   ! y pencils at k = c0, bundled over i
+        do jj = 0, nn
+          up(:, jj) = bigphi(1:nbb, jj, c0) < 0.0_wp .and. bigphi(1:nbb, jj + 1, c0) < 0.0_wp
+        end do
+      case default   ! z pencils at j = c0, bundled over i
+        do jj = 0, nn
+          up(:, jj) = bigphi(1:nbb, c0, jj) < 0.0_wp .and. bigphi(1:nbb, c0, jj + 1) < 0.0_wp
+        end do
+      end select
+    end subroutine upwind_faces
 
     subroutine bundle_x(k0, nbb, nn, gg, pw)
       integer, intent(in) :: k0, nbb, nn, gg
@@ -264,12 +302,13 @@ contains
   !> Face states and fluxes of a bundle of nb pencils of n cells: reconstruct, test
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
-  subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, wall, vwall, pw, &
-      wl, wr, el, er, cl, cr, f, nfallback, failed)
+  subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, wall, vwall, up, &
+      pw, wl, wr, el, er, cl, cr, f, nfallback, failed)
     type(eos_t), intent(in) :: eos
     real(wp), intent(in) :: shear
     integer, intent(in) :: scheme, flux_kind, nb, n, g, nv
     logical, intent(in) :: wall(2)
+    logical, intent(in) :: up(nb, 0:n)    !< faces whose scalars take the upwind flux
     real(wp), intent(in) :: vwall(2)
     real(wp), intent(in) :: pw(nb, 1-g:n+g, nv)
     real(wp), intent(out) :: wl(nb, 0:n, nv), wr(nb, 0:n, nv), el(nb, 0:n), er(nb, 0:n)
@@ -323,7 +362,7 @@ contains
     call eos_energy(eos, nf, wl(:, :, 1), wl(:, :, 5), el)
     call eos_energy(eos, nf, wr(:, :, 1), wr(:, :, 5), er)
     if (nv > n_euler) then
-      call flux_llf_solid(nf, nv, wl, wr, el, er, cl, cr, f)
+      call flux_llf_solid(nf, nv, up, wl, wr, el, er, cl, cr, f)
     else
       call face_flux(flux_kind, nf, wl, wr, el, er, cl, cr, f)
     end if

@@ -3,14 +3,22 @@
 !> Speares 1994) with Davis wave-speed estimates. States are primitive, in the frame of the
 !> pencil: (rho, u_normal, u_t1, u_t2, p), with the specific internal energy e and the sound
 !> speed c supplied by the caller (from the EOS), so the flux is EOS-independent.
+!> For solids (eq. 5.1a) the flux is LLF, with a choice for the material-advected scalars
+!> rho eps_p and rho w_c (eq. 5.1b): LLF, or the mass flux times the specific value upwinded
+!> by its sign (Larrouturou 1991).
 module m_flux
   use m_kinds, only: wp
+  use m_state, only: i_epsp
   implicit none
   private
   public :: flux_llf, flux_hllc, flux_from_name, flux_kind_llf, flux_kind_hllc, face_flux
-  public :: flux_llf_solid
+  public :: flux_llf_solid, scalar_flux_from_name, scalar_flux_llf, scalar_flux_upwind
 
   integer, parameter :: flux_kind_llf = 1, flux_kind_hllc = 2
+  integer, parameter :: scalar_flux_llf = 1, scalar_flux_upwind = 2
+  !> the first of the passive scalars (rho eps_p, rho w_c) in the pencil frame, which keeps
+  !> them at their places in the state vector
+  integer, parameter :: first_scalar = i_epsp
 
 contains
 
@@ -19,6 +27,12 @@ contains
     kind = flux_kind_llf
     if (trim(name) == 'hllc') kind = flux_kind_hllc
   end function flux_from_name
+
+  integer function scalar_flux_from_name(name) result(kind)
+    character(len=*), intent(in) :: name
+    kind = scalar_flux_llf
+    if (trim(name) == 'upwind') kind = scalar_flux_upwind
+  end function scalar_flux_from_name
 
   subroutine face_flux(kind, nf, wl, wr, el, er, cl, cr, f)
     integer, intent(in) :: kind, nf
@@ -115,11 +129,19 @@ contains
 
   !> Local Lax-Friedrichs flux of the elastic-plastic equations (manual/theory.md eq. 5.1) in
   !> the pencil frame: w = (rho, u_n, u_t1, u_t2, p, S_nn, S_nt1, S_nt2, three more stress
-  !> components, eps_p). The stress enters the momentum and energy fluxes as the traction
-  !> -(S_nn, S_nt1, S_nt2); rho S and rho eps_p are advected. c is the longitudinal speed
-  !> sqrt(c_bulk^2 + 4 G / (3 rho)), supplied by the caller.
-  subroutine flux_llf_solid(nf, nv, wl, wr, el, er, cl, cr, f)
+  !> components, eps_p, w_c). The stress enters the momentum and energy fluxes as the
+  !> traction -(S_nn, S_nt1, S_nt2); rho S, rho eps_p and rho w_c are advected. c is the
+  !> longitudinal speed sqrt(c_bulk^2 + 4 G / (3 rho)), supplied by the caller.
+  !> On the faces where upwind is true the scalars eps_p and w_c, which only move with the
+  !> material, are carried by the mass flux F_rho with the upwind specific value (eq. 5.1b):
+  !> their LLF dissipation a (rho phi_R - rho phi_L) / 2, with a ~ c_L, smears them where
+  !> the material hardly moves (a stagnation point on a wall). Uniform phi stays uniform,
+  !> and under the CFL condition of the mass update phi stays within its neighbours' range
+  !> at first order. The stress keeps its LLF dissipation: it is the only dissipation of the
+  !> elastic waves, whose coupling to the velocity is in the source (eq. 5.1).
+  subroutine flux_llf_solid(nf, nv, upwind, wl, wr, el, er, cl, cr, f)
     integer, intent(in) :: nf, nv
+    logical, intent(in) :: upwind(nf)    !< faces whose scalars take the upwind flux
     real(wp), intent(in) :: wl(nf, nv), wr(nf, nv), el(nf), er(nf), cl(nf), cr(nf)
     real(wp), intent(out) :: f(nf, nv)
     real(wp) :: a(nf), ml, mr, enl, enr
@@ -145,6 +167,12 @@ contains
       do i = 1, nf
         f(i, m) = 0.5_wp * (wl(i, 1) * wl(i, m) * wl(i, 2) + wr(i, 1) * wr(i, m) * wr(i, 2) &
           - a(i) * (wr(i, 1) * wr(i, m) - wl(i, 1) * wl(i, m)))
+      end do
+    end do
+    if (.not. any(upwind)) return
+    do m = first_scalar, nv
+      do i = 1, nf
+        if (upwind(i)) f(i, m) = f(i, 1) * merge(wl(i, m), wr(i, m), f(i, 1) >= 0.0_wp)
       end do
     end do
   end subroutine flux_llf_solid
