@@ -11,7 +11,7 @@ module m_output
   use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
     h5_read_attr, h5_write_field, h5_read_field, h5_write_text
   use m_xdmf, only: xdmf_write
-  use m_comm, only: comm_sum_array, comm_max
+  use m_comm, only: comm_sum_array, comm_max, comm_sum
   use m_errors, only: stop_collective, log_line
   use m_deck_text, only: base_name
   use m_levelset_bodies, only: ls_region, ls_material
@@ -249,7 +249,7 @@ contains
     integer :: l, k
     cols = [character(len=name_len) :: 'step', 'time', 'dt', 'mass', 'mom_x', 'mom_y', &
       'mom_z', 'kinetic', 'internal', 'total_energy', 'max_p', 'max_T', 'max_eps_p', &
-      'fallback_faces', 'first_order_steps']
+      'fallback_faces', 'first_order_steps', 'first_order_cells']
     do l = 1, sim%ls%n
       if (sim%ls%kind(l) /= ls_material) cycle
       cols = [character(len=name_len) :: cols, &
@@ -319,7 +319,7 @@ contains
     tot(8) = real(sim%fallback_step, wp)
     call comm_sum_array(tot(1:7))
     v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), comm_max(epmax), tot(8), &
-      real(sim%first_order_steps, wp)]
+      real(sim%first_order_steps, wp), real(comm_sum(sim%cells_low), wp)]
     nb = count(sim%ls%kind == ls_material)
     if (nb == 0) return
     allocate(body(8, nb))

@@ -72,6 +72,9 @@ module m_simulation
     integer(i8) :: fallback_faces = 0  !< faces reconstructed at first order (this rank)
     integer(i8) :: fallback_step = 0   !< the same, in the last step, summed over ranks
     integer :: first_order_steps = 0   !< steps recomputed at first order (a-posteriori)
+    integer(i8) :: cells_low = 0       !< cells redone with first-order faces (this rank)
+    real(wp), allocatable :: qsave(:, :, :, :)   !< a block's stage input (interior)
+    logical, allocatable :: trouble(:, :, :)     !< its cells left inadmissible
     logical :: step_failed = .false.   !< the last step met a state with no admissible cells
     integer :: restart_step = 0
     type(timers_t) :: timers
@@ -127,6 +130,8 @@ contains
     call blocks_allocate(sim%lay, comm_rank(), sim%nvar, sim%blocks)
     call halo_plan_build(sim%lay, sim%blocks, sim%plan)
     call euler_work_init(sim%lay, sim%nflow, sim%work)
+    allocate(sim%qsave(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3), sim%nvar))
+    allocate(sim%trouble(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
     if (sim%ls%n > 0) then
       call gfm_work_init(sim%lay, sim%nflow, sim%nphase, sim%gwork)
       sim%scn%eos = sim%eos

@@ -6,7 +6,9 @@ module m_timeloop
   use m_simulation, only: sim_t
   use m_halo, only: halo_exchange
   use m_boundary, only: boundary_apply, boundary_walls
-  use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update, plastic_correction
+  use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update, plastic_correction, &
+    primitive_row
+  use m_eos, only: eos_sound_speed2
   use m_reconstruct, only: scheme_eno1
   use m_flux, only: flux_kind_llf
   use m_output, only: output_plot, output_checkpoint, history_columns, history_values, &
@@ -21,7 +23,7 @@ module m_timeloop
   use m_levelset_advect, only: levelset_advect_rhs
   use m_levelset_reinit, only: levelset_reinit_step
   use m_scene, only: body_distance, cell_centre
-  use m_state, only: i_rho, i_mx
+  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en
   implicit none
   private
   public :: run_time_loop
@@ -177,8 +179,9 @@ contains
   !> One time step of sim%dt by TVD Runge-Kutta of order rk_order.
   subroutine advance(sim)
     type(sim_t), intent(inout) :: sim
-    integer :: stage, b, p, off
+    integer :: stage, b, nbad
     integer(i8) :: nfall
+    logical :: edge
     real(wp) :: tstage, vwall(2, 3)
     logical :: wall(2, 3)
     real(wp), parameter :: stage_time(3, 3) = reshape([0.0_wp, 0.0_wp, 0.0_wp, &
@@ -209,39 +212,20 @@ contains
             end if
           end if
           call boundary_walls(sim%lay, sim%bc, blk, tstage, wall, vwall)
-          do p = 1, sim%nphase
-            off = (p - 1) * sim%nflow
-            if (sim%ls%n > 0 .and. sim%strong(p) .and. sim%cfg%scalar_flux == 'upwind') then
-              ! the composite level set of the phase: which faces join two of its real cells
-              call ls_region(sim%ls, p, 1 - sim%lay%ng, sim%lay%bsize + sim%lay%ng, &
-                blk%q(:, :, :, sim%ils + 1:sim%nvar), sim%gwork%bigphi(:, :, :, p), &
-                sim%gwork%owner(:, :, :, p))
-              call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
-                sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
-                blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
-                nf, failed, sim%gwork%bigphi(:, :, :, p))
-            else
-              call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
-                sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
-                blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
-                nf, failed)
-            end if
-          end do
+          sim%qsave = blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), :)
+          call block_stage(sim, b, stage, wall, vwall, nf, failed)
           if (failed) exit
-          if (sim%ls%n > 0) call levelset_rates(sim, b)
-          call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, blk%q, blk%q0, &
-            blk%rhs)
-          do p = 1, sim%nphase
-            off = (p - 1) * sim%nflow
-            if (sim%strong(p)) call plastic_correction(sim%lay, sim%eos(p), sim%st(p), &
-              sim%cfg%thermal, sim%dt, blk%q(:, :, :, off + 1:off + sim%nflow))
-          end do
-          if (count(sim%ls%kind == ls_material) > 1) call ls_separate(sim%ls, &
-            blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), &
-            sim%ils + 1:sim%nvar))
-          if (any(sim%ls%kind == ls_material)) call gfm_drop_debris(sim%lay, sim%scn, &
-            sim%ls, blk%q, sim%gcount)
-          if (sim%ls%n > 0) call gfm_rest(sim%lay, sim%scn, sim%ls, blk%q, sim%gwork)
+          ! the cell-local fallback: cells the update left inadmissible are redone with every
+          ! face of theirs at first order (conservative: both neighbours see the same face
+          ! flux); a trouble cell on a side the block shares with another block is left to
+          ! the step fallback
+          call find_trouble(sim, b, nbad, edge)
+          if (nbad > 0 .and. .not. edge) then
+            blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), :) = sim%qsave
+            call block_stage(sim, b, stage, wall, vwall, nf, failed, sim%trouble)
+            if (failed) exit
+            sim%cells_low = sim%cells_low + nbad
+          end if
         end associate
       end do
       call timer_stop(sim%timers, 'fluxes')
@@ -254,6 +238,114 @@ contains
     sim%fallback_faces = sim%fallback_faces + nfall
     sim%fallback_step = comm_sum(nfall)
   end subroutine advance
+
+  !> One RK stage on block b: right-hand sides of every phase (faces of the trouble cells at
+  !> first order when the mask is given), level-set rates, the stage update, radial return,
+  !> overlap removal, debris and the rest state outside each phase's region.
+  subroutine block_stage(sim, b, stage, wall, vwall, nf, failed, trouble)
+    type(sim_t), intent(inout) :: sim
+    integer, intent(in) :: b, stage
+    logical, intent(in) :: wall(2, 3)
+    real(wp), intent(in) :: vwall(2, 3)
+    integer, intent(inout) :: nf
+    logical, intent(inout) :: failed
+    logical, intent(in), optional :: trouble(:, :, :)
+    integer :: p, off
+    associate (blk => sim%blocks(b))
+      do p = 1, sim%nphase
+        off = (p - 1) * sim%nflow
+        if (sim%ls%n > 0 .and. sim%strong(p) .and. sim%cfg%scalar_flux == 'upwind') then
+          ! the composite level set of the phase: which faces join two of its real cells
+          call ls_region(sim%ls, p, 1 - sim%lay%ng, sim%lay%bsize + sim%lay%ng, &
+            blk%q(:, :, :, sim%ils + 1:sim%nvar), sim%gwork%bigphi(:, :, :, p), &
+            sim%gwork%owner(:, :, :, p))
+          call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
+            sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
+            blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
+            nf, failed, sim%gwork%bigphi(:, :, :, p), trouble)
+        else
+          call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
+            sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
+            blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
+            nf, failed, trouble=trouble)
+        end if
+      end do
+      if (failed) return
+      if (sim%ls%n > 0) call levelset_rates(sim, b)
+      call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, blk%q, blk%q0, &
+        blk%rhs)
+      do p = 1, sim%nphase
+        off = (p - 1) * sim%nflow
+        if (sim%strong(p)) call plastic_correction(sim%lay, sim%eos(p), sim%st(p), &
+          sim%cfg%thermal, sim%dt, blk%q(:, :, :, off + 1:off + sim%nflow))
+      end do
+      if (count(sim%ls%kind == ls_material) > 1) call ls_separate(sim%ls, &
+        blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), &
+        sim%ils + 1:sim%nvar))
+      if (any(sim%ls%kind == ls_material)) call gfm_drop_debris(sim%lay, sim%scn, &
+        sim%ls, blk%q, sim%gcount)
+      if (sim%ls%n > 0) call gfm_rest(sim%lay, sim%scn, sim%ls, blk%q, sim%gwork)
+    end associate
+  end subroutine block_stage
+
+  !> The interior cells of block b that hold no admissible state for some phase (rho <= 0,
+  !> c^2 <= 0 or not finite) into sim%trouble; edge is true when one lies on a side the block
+  !> shares with another block.
+  subroutine find_trouble(sim, b, nbad, edge)
+    type(sim_t), intent(inout) :: sim
+    integer, intent(in) :: b
+    integer, intent(out) :: nbad
+    logical, intent(out) :: edge
+    integer :: j, k, p, off, n, d
+    logical :: lo_shared, hi_shared
+    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, v, w, pr, e, c2
+    n = sim%lay%bsize(1)
+    sim%trouble = .false.
+    associate (q => sim%blocks(b)%q)
+      do p = 1, sim%nphase
+        off = (p - 1) * sim%nflow
+        do k = 1, sim%lay%bsize(3)
+          do j = 1, sim%lay%bsize(2)
+            rho = q(1:n, j, k, off + i_rho)
+            if (all(rho > 0.0_wp .and. abs(q(1:n, j, k, off + i_en)) <= huge(1.0_wp))) then
+              call primitive_row(sim%eos(p), n, q(1:n, j, k, off + i_rho), &
+                q(1:n, j, k, off + i_mx), q(1:n, j, k, off + i_my), q(1:n, j, k, off + i_mz), &
+                q(1:n, j, k, off + i_en), rho, u, v, w, pr, e)
+              call eos_sound_speed2(sim%eos(p), n, rho, pr, c2)
+              if (all(c2 > 0.0_wp .and. c2 <= huge(1.0_wp))) cycle
+              sim%trouble(:, j, k) = sim%trouble(:, j, k) .or. &
+                .not. (c2 > 0.0_wp .and. c2 <= huge(1.0_wp))
+            else
+              sim%trouble(:, j, k) = sim%trouble(:, j, k) .or. .not. (rho > 0.0_wp)
+              sim%trouble(:, j, k) = sim%trouble(:, j, k) .or. &
+                .not. abs(q(1:n, j, k, off + i_en)) <= huge(1.0_wp)
+            end if
+          end do
+        end do
+      end do
+    end associate
+    nbad = count(sim%trouble)
+    edge = .false.
+    if (nbad == 0) return
+    ! a side shared with another block (not a domain side, unless periodic)
+    associate (off3 => sim%blocks(b)%offset, nb => sim%lay%bsize, lay => sim%lay)
+      do d = 1, lay%ndim
+        lo_shared = off3(d) > 0 .or. lay%periodic(d)
+        hi_shared = off3(d) + nb(d) < lay%cells(d) .or. lay%periodic(d)
+        select case (d)
+        case (1)
+          edge = edge .or. (lo_shared .and. any(sim%trouble(1, :, :))) .or. &
+            (hi_shared .and. any(sim%trouble(nb(1), :, :)))
+        case (2)
+          edge = edge .or. (lo_shared .and. any(sim%trouble(:, 1, :))) .or. &
+            (hi_shared .and. any(sim%trouble(:, nb(2), :)))
+        case default
+          edge = edge .or. (lo_shared .and. any(sim%trouble(:, :, 1))) .or. &
+            (hi_shared .and. any(sim%trouble(:, :, nb(3))))
+        end select
+      end do
+    end associate
+  end subroutine find_trouble
 
   !> The ghost-fluid stage of DESIGN section 5: rigid level sets moved to the stage time,
   !> ghost bands filled on every block (m_gfm), then a second halo exchange of the flow

@@ -187,6 +187,9 @@ contains
       ', first-order fallback faces ', nfall, ' in all, ', s%first_order_steps, &
       ' steps recomputed at first order'
     call log_line(line)
+    write(line, '(a,i0,a)') 'end: ', comm_sum(s%cells_low), ' cells recomputed with ' // &
+      'first-order faces by the cell-local fallback'
+    call log_line(line)
     if (s%ls%n > 0) then
       write(line, '(a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a)') 'gfm: ', &
         comm_sum(s%gcount%ghosts), ' ghost fills: ', comm_sum(s%gcount%trilinear), &

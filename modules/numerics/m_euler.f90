@@ -33,6 +33,7 @@ module m_euler
     real(wp), allocatable :: el(:), er(:), cl(:), cr(:)   !< (nb, 0:n)
     real(wp), allocatable :: row(:)
     logical, allocatable :: up(:)                  !< faces with upwind scalars (nb, 0:n)
+    logical, allocatable :: low(:)                 !< faces forced to first order (nb, 0:n)
   end type euler_work_t
 
 contains
@@ -55,7 +56,7 @@ contains
     allocate(work%el(nbmax * (nmax + 1)), work%er(nbmax * (nmax + 1)))
     allocate(work%cl(nbmax * (nmax + 1)), work%cr(nbmax * (nmax + 1)))
     allocate(work%row(lo(1):hi(1)))
-    allocate(work%up(nbmax * (nmax + 1)))
+    allocate(work%up(nbmax * (nmax + 1)), work%low(nbmax * (nmax + 1)))
   end subroutine euler_work_init
 
   !> Primitive variables (rho, u, v, w, p) of one row of cells i = lo..hi.
@@ -81,7 +82,7 @@ contains
   !> first order; failed is set (and the rest skipped) when even the cell values next to a
   !> face are not admissible: the stage cannot go on and the caller recomputes the step.
   subroutine euler_rhs(lay, eos, st, scheme, flux_kind, scalar_kind, q, rhs, offset, wall, &
-      vwall, work, nfallback, failed, bigphi)
+      vwall, work, nfallback, failed, bigphi, trouble)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st    !< strength (used when q carries the stress)
@@ -97,6 +98,9 @@ contains
     !> composite level set (< 0: a cell of the material; m_levelset_bodies), when there are
     !> level sets: the scalars of a face next to a ghost keep the LLF flux
     real(wp), intent(in), optional :: bigphi(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):)
+    !> cells of the interior whose last update was inadmissible (the cell-local fallback,
+    !> m_timeloop): every face of theirs is reconstructed at first order
+    logical, intent(in), optional :: trouble(:, :, :)
     integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m
     real(wp) :: rdx, r
     lo = 1 - lay%ng
@@ -128,9 +132,10 @@ contains
         do k = 1, lay%bsize(3)
           call bundle_x(k, nb, n, g, work%pw)
           call upwind_faces(d, k, nb, n, work%up)
+          call low_faces(d, k, nb, n, work%low)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
-            work%cr, work%f, nfallback, failed)
+            vwall(:, d), work%up, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
+            work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_x(k, nb, n, work%f)
         end do
@@ -141,9 +146,10 @@ contains
         do k = 1, lay%bsize(3)
           call bundle_y(k, nb, n, g, work%pw)
           call upwind_faces(d, k, nb, n, work%up)
+          call low_faces(d, k, nb, n, work%low)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
-            work%cr, work%f, nfallback, failed)
+            vwall(:, d), work%up, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
+            work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_y(k, nb, n, work%f)
         end do
@@ -154,9 +160,10 @@ contains
         do j = 1, lay%bsize(2)
           call bundle_z(j, nb, n, g, work%pw)
           call upwind_faces(d, j, nb, n, work%up)
+          call low_faces(d, j, nb, n, work%low)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
-            work%cr, work%f, nfallback, failed)
+            vwall(:, d), work%up, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
+            work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_z(j, nb, n, work%f)
         end do
@@ -209,6 +216,32 @@ contains
         end do
       end select
     end subroutine upwind_faces
+
+    !> The faces of a bundle next to a trouble cell (none without the trouble mask).
+    subroutine low_faces(dd, c0, nbb, nn, low)
+      integer, intent(in) :: dd, c0, nbb, nn
+      logical, intent(out) :: low(nbb, 0:nn)
+      integer :: ii
+      low = .false.
+      if (.not. present(trouble)) return
+      select case (dd)
+      case (1)
+        do ii = 1, nn
+          low(:, ii - 1) = low(:, ii - 1) .or. trouble(ii, 1:nbb, c0)
+          low(:, ii) = low(:, ii) .or. trouble(ii, 1:nbb, c0)
+        end do
+      case (2)
+        do ii = 1, nn
+          low(:, ii - 1) = low(:, ii - 1) .or. trouble(1:nbb, ii, c0)
+          low(:, ii) = low(:, ii) .or. trouble(1:nbb, ii, c0)
+        end do
+      case default
+        do ii = 1, nn
+          low(:, ii - 1) = low(:, ii - 1) .or. trouble(1:nbb, c0, ii)
+          low(:, ii) = low(:, ii) .or. trouble(1:nbb, c0, ii)
+        end do
+      end select
+    end subroutine low_faces
 
     subroutine bundle_x(k0, nbb, nn, gg, pw)
       integer, intent(in) :: k0, nbb, nn, gg
@@ -303,12 +336,13 @@ contains
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
   subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, wall, vwall, up, &
-      pw, wl, wr, el, er, cl, cr, f, nfallback, failed)
+      low, pw, wl, wr, el, er, cl, cr, f, nfallback, failed)
     type(eos_t), intent(in) :: eos
     real(wp), intent(in) :: shear
     integer, intent(in) :: scheme, flux_kind, nb, n, g, nv
     logical, intent(in) :: wall(2)
     logical, intent(in) :: up(nb, 0:n)    !< faces whose scalars take the upwind flux
+    logical, intent(in) :: low(nb, 0:n)   !< faces reconstructed at first order
     real(wp), intent(in) :: vwall(2)
     real(wp), intent(in) :: pw(nb, 1-g:n+g, nv)
     real(wp), intent(out) :: wl(nb, 0:n, nv), wr(nb, 0:n, nv), el(nb, 0:n), er(nb, 0:n)
@@ -318,6 +352,15 @@ contains
     integer :: i, b, nf
     nf = nb * (n + 1)
     call reconstruct_faces(scheme, nb, n, g, nv, pw, wl, wr)
+    if (any(low)) then
+      do i = 0, n
+        do b = 1, nb
+          if (.not. low(b, i)) cycle
+          wl(b, i, :) = pw(b, i, :)
+          wr(b, i, :) = pw(b, i + 1, :)
+        end do
+      end do
+    end if
     ! a reflecting side: the outer face state is the mirror of the inner one (normal
     ! velocity 2 V - u, shear tractions reversed), so the mass and energy fluxes are
     ! exactly those of the wall
