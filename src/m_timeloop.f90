@@ -212,7 +212,9 @@ contains
             end if
           end if
           call boundary_walls(sim%lay, sim%bc, blk, tstage, wall, vwall)
-          sim%qsave = blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), :)
+          ! the stage input, for the cell-local fallback (at stage 1 it is q0, kept anyway)
+          if (stage > 1) sim%qsave = blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), &
+            1:sim%lay%bsize(3), :)
           call block_stage(sim, b, stage, wall, vwall, nf, failed)
           if (failed) exit
           ! the cell-local fallback: cells the update left inadmissible are redone with every
@@ -221,7 +223,11 @@ contains
           ! the step fallback
           call find_trouble(sim, b, nbad, edge)
           if (nbad > 0 .and. .not. edge) then
-            blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), :) = sim%qsave
+            if (stage > 1) then
+              blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), :) = sim%qsave
+            else
+              blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), :) = blk%q0
+            end if
             call block_stage(sim, b, stage, wall, vwall, nf, failed, sim%trouble)
             if (failed) exit
             sim%cells_low = sim%cells_low + nbad
