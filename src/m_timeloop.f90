@@ -426,7 +426,7 @@ contains
   subroutine phase_velocity(sim, b, p)
     type(sim_t), intent(inout) :: sim
     integer, intent(in) :: b, p
-    integer :: d, m, off, lo(3), hi(3)
+    integer :: d, m, off, lo(3), hi(3), i, j, k
     associate (q => sim%blocks(b)%q, w => sim%gwork)
       if (p > 0 .or. sim%nphase == 1) then
         off = (max(p, 1) - 1) * sim%nflow
@@ -441,12 +441,12 @@ contains
         call ls_region(sim%ls, m, lo, hi, q(:, :, :, sim%ils + 1:sim%nvar), &
           w%bigphi(:, :, :, m), w%owner(:, :, :, m))
       end do
-      sim%vel = 0.0_wp
-      do m = sim%nphase, 1, -1
-        off = (m - 1) * sim%nflow
-        do d = 1, 3
-          where (w%bigphi(:, :, :, m) <= minval(w%bigphi, 4)) sim%vel(:, :, :, d) = &
-            q(:, :, :, off + i_mx + d - 1) / q(:, :, :, off + i_rho)
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            off = (minloc(w%bigphi(i, j, k, :), 1) - 1) * sim%nflow
+            sim%vel(i, j, k, :) = q(i, j, k, off + i_mx:off + i_mz) / q(i, j, k, off + i_rho)
+          end do
         end do
       end do
     end associate

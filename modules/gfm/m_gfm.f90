@@ -384,7 +384,6 @@ contains
       if (set%kind(l) /= ls_material) cycle
       p = set%phase(l)
       off = (p - 1) * scn%nflow
-      qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))
       do k = 1, lay%bsize(3)
         do j = 1, lay%bsize(2)
           do i = 1, lay%bsize(1)
@@ -399,6 +398,7 @@ contains
               if (c2(1) > 0.0_wp .and. c2(1) <= huge(1.0_wp)) cycle
             end if
             counts%debris = counts%debris + 1
+            qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))
             q(i, j, k, ils + l) = 0.5_wp * h
             q(i, j, k, off + 1:off + scn%nflow) = qrest
           end do
