@@ -5,7 +5,9 @@
 #   make run        the default deck, then VTK files and a PNG of its history
 #   make verify     convergence studies against exact solutions (tables/plots for the manual),
 #                   gas dynamics and elastic-plastic solids
-#   make accuracy   error against wall time for every scheme choice (work-precision, Pareto)
+#   make accuracy   error against wall time for every scheme choice (work-precision, Pareto):
+#                   the 1D and ghost-fluid families (~3 min), then the Taylor bar (~20 min)
+#   make accuracy-taylor  the Taylor-bar family alone (error against its finest run)
 #   make bench      3D gas-dynamics benchmark on 1 and 2 ranks with the STREAM triad
 #   make clean
 
@@ -46,7 +48,7 @@ CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset test_gfm
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
-.PHONY: all deps check run verify bench clean unit accuracy stability
+.PHONY: all deps check run verify bench clean unit accuracy accuracy-taylor stability
 all: bin/sabre
 
 bin/sabre: $(REL_OBJ) build/rel/src/sabre.o | bin
@@ -98,6 +100,12 @@ verify: deps
 accuracy: deps
 	$(MAKE) bin/sabre
 	$(PY) tools/accuracy
+	$(PY) tools/accuracy --families taylor_bar
+
+# 18 runs on 2 ranks and the 0.075 mm reference (8 min; re-used while bin/sabre is unchanged)
+accuracy-taylor: deps
+	$(MAKE) bin/sabre
+	$(PY) tools/accuracy --families taylor_bar
 
 # the stability suite of hard cases (issue 5 section 2; manual/stability.md)
 stability: deps
