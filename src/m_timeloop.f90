@@ -257,14 +257,21 @@ contains
     logical, intent(inout) :: failed
     logical, intent(in), optional :: trouble(:, :, :)
     integer :: p, off
+    integer :: lo(3), hi(3), n(3)
+    logical :: fresh(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3))
+    lo = 1 - sim%lay%ng
+    hi = sim%lay%bsize + sim%lay%ng
+    n = sim%lay%bsize
     associate (blk => sim%blocks(b))
       do p = 1, sim%nphase
         off = (p - 1) * sim%nflow
-        if (sim%ls%n > 0 .and. sim%strong(p) .and. sim%cfg%scalar_flux == 'upwind') then
-          ! the composite level set of the phase: which faces join two of its real cells
-          call ls_region(sim%ls, p, 1 - sim%lay%ng, sim%lay%bsize + sim%lay%ng, &
-            blk%q(:, :, :, sim%ils + 1:sim%nvar), sim%gwork%bigphi(:, :, :, p), &
-            sim%gwork%owner(:, :, :, p))
+        if (sim%ls%n > 0 .and. sim%strong(p)) then
+          ! the composite level set of the phase at the stage's start: which cells are real
+          ! (for the radial return), which faces join two of them (upwind scalar flux) and
+          ! which lie on its surface (transported variables at the real cell's value)
+          call ls_region(sim%ls, p, lo, hi, blk%q(:, :, :, sim%ils + 1:sim%nvar), &
+            sim%gwork%bigphi(:, :, :, p), sim%gwork%owner(:, :, :, p))
+          sim%gwork%isreal(:, :, :, p) = sim%gwork%bigphi(:, :, :, p) < 0.0_wp
           call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
             sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
             blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
@@ -282,8 +289,21 @@ contains
         blk%rhs)
       do p = 1, sim%nphase
         off = (p - 1) * sim%nflow
-        if (sim%strong(p)) call plastic_correction(sim%lay, sim%eos(p), sim%st(p), &
-          sim%cfg%thermal, sim%dt, blk%q(:, :, :, off + 1:off + sim%nflow))
+        if (.not. sim%strong(p)) cycle
+        if (sim%ls%n > 0) then
+          ! the region after the update: its cells that were not real at the start are fresh
+          call ls_region(sim%ls, p, lo, hi, blk%q(:, :, :, sim%ils + 1:sim%nvar), &
+            sim%gwork%bigphi(:, :, :, p), sim%gwork%owner(:, :, :, p))
+          fresh = sim%gwork%bigphi(1:n(1), 1:n(2), 1:n(3), p) < 0.0_wp .and. &
+            .not. sim%gwork%isreal(1:n(1), 1:n(2), 1:n(3), p)
+          sim%gwork%isreal(:, :, :, p) = sim%gwork%bigphi(:, :, :, p) < 0.0_wp
+          call plastic_correction(sim%lay, sim%eos(p), sim%st(p), sim%cfg%thermal, sim%dt, &
+            blk%q(:, :, :, off + 1:off + sim%nflow), &
+            sim%gwork%isreal(1:n(1), 1:n(2), 1:n(3), p), fresh)
+        else
+          call plastic_correction(sim%lay, sim%eos(p), sim%st(p), sim%cfg%thermal, sim%dt, &
+            blk%q(:, :, :, off + 1:off + sim%nflow))
+        end if
       end do
       if (count(sim%ls%kind == ls_material) > 1) call ls_separate(sim%ls, &
         blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), &

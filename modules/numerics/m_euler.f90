@@ -33,6 +33,7 @@ module m_euler
     real(wp), allocatable :: el(:), er(:), cl(:), cr(:)   !< (nb, 0:n)
     real(wp), allocatable :: row(:)
     logical, allocatable :: up(:)                  !< faces with upwind scalars (nb, 0:n)
+    integer, allocatable :: surf(:)                !< faces on a surface (nb, 0:n; m_flux)
     logical, allocatable :: low(:)                 !< faces forced to first order (nb, 0:n)
   end type euler_work_t
 
@@ -57,6 +58,7 @@ contains
     allocate(work%cl(nbmax * (nmax + 1)), work%cr(nbmax * (nmax + 1)))
     allocate(work%row(lo(1):hi(1)))
     allocate(work%up(nbmax * (nmax + 1)), work%low(nbmax * (nmax + 1)))
+    allocate(work%surf(nbmax * (nmax + 1)))
   end subroutine euler_work_init
 
   !> Primitive variables (rho, u, v, w, p) of one row of cells i = lo..hi.
@@ -96,7 +98,7 @@ contains
     integer, intent(inout) :: nfallback
     logical, intent(inout) :: failed
     !> composite level set (< 0: a cell of the material; m_levelset_bodies), when there are
-    !> level sets: the scalars of a face next to a ghost keep the LLF flux
+    !> level sets: which faces join two real cells and which lie on the surface
     real(wp), intent(in), optional :: bigphi(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):)
     !> cells of the interior whose last update was inadmissible (the cell-local fallback,
     !> m_timeloop): every face of theirs is reconstructed at first order
@@ -131,10 +133,10 @@ contains
         nb = lay%bsize(2)
         do k = 1, lay%bsize(3)
           call bundle_x(k, nb, n, g, work%pw)
-          call upwind_faces(d, k, nb, n, work%up)
+          call upwind_faces(d, k, nb, n, work%up, work%surf)
           call low_faces(d, k, nb, n, work%low)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
+            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
             work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_x(k, nb, n, work%f)
@@ -145,10 +147,10 @@ contains
         nb = lay%bsize(1)
         do k = 1, lay%bsize(3)
           call bundle_y(k, nb, n, g, work%pw)
-          call upwind_faces(d, k, nb, n, work%up)
+          call upwind_faces(d, k, nb, n, work%up, work%surf)
           call low_faces(d, k, nb, n, work%low)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
+            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
             work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_y(k, nb, n, work%f)
@@ -159,10 +161,10 @@ contains
         nb = lay%bsize(1)
         do j = 1, lay%bsize(2)
           call bundle_z(j, nb, n, g, work%pw)
-          call upwind_faces(d, j, nb, n, work%up)
+          call upwind_faces(d, j, nb, n, work%up, work%surf)
           call low_faces(d, j, nb, n, work%low)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
+            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
             work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_z(j, nb, n, work%f)
@@ -189,32 +191,44 @@ contains
   contains
 
     !> The faces of a bundle whose scalars take the upwind flux (m_flux): all of them with
-    !> scalar_kind upwind and no level sets, else those between two cells of the material.
-    !> A face next to a ghost keeps LLF, whose dissipation there pulls the surface cell
-    !> towards the ghost, i.e. the image state inside (without it, the spurious plastic
-    !> strain the free-surface cells gain, manual/interfaces.md section 4, piles up).
-    subroutine upwind_faces(dd, c0, nbb, nn, up)
+    !> scalar_kind upwind and no level sets, else those between two real cells of the
+    !> phase; and (with level sets) the faces between a real cell and a ghost, surf = 1 when
+    !> the left cell is real, 2 when the right one is. On those the transported variables
+    !> (S, eps_p, w_c) move with the mass flux at the real cell's value: the ghost's deviator
+    !> is built for the traction (MVI reverses the normal stress) and must not be dissipated
+    !> into the surface cell (manual/interfaces.md section 4: that pushed the surface cells
+    !> past yield every step, eps_p 38 at the foot of the 0.075 mm Taylor bar).
+    subroutine upwind_faces(dd, c0, nbb, nn, up, surf)
       integer, intent(in) :: dd, c0, nbb, nn
       logical, intent(out) :: up(nbb, 0:nn)
+      integer, intent(out) :: surf(nbb, 0:nn)
+      logical :: rl(nbb, 0:nn), rr(nbb, 0:nn)
       integer :: ii, jj
       up = scalar_kind == scalar_flux_upwind
-      if (.not. (present(bigphi) .and. scalar_kind == scalar_flux_upwind)) return
+      surf = 0
+      if (.not. present(bigphi)) return
       select case (dd)
       case (1)   ! x pencils at k = c0, bundled over j
         do ii = 0, nn
           do jj = 1, nbb
-            up(jj, ii) = bigphi(ii, jj, c0) < 0.0_wp .and. bigphi(ii + 1, jj, c0) < 0.0_wp
+            rl(jj, ii) = bigphi(ii, jj, c0) < 0.0_wp
+            rr(jj, ii) = bigphi(ii + 1, jj, c0) < 0.0_wp
           end do
         end do
       case (2)   ! y pencils at k = c0, bundled over i
         do jj = 0, nn
-          up(:, jj) = bigphi(1:nbb, jj, c0) < 0.0_wp .and. bigphi(1:nbb, jj + 1, c0) < 0.0_wp
+          rl(:, jj) = bigphi(1:nbb, jj, c0) < 0.0_wp
+          rr(:, jj) = bigphi(1:nbb, jj + 1, c0) < 0.0_wp
         end do
       case default   ! z pencils at j = c0, bundled over i
         do jj = 0, nn
-          up(:, jj) = bigphi(1:nbb, c0, jj) < 0.0_wp .and. bigphi(1:nbb, c0, jj + 1) < 0.0_wp
+          rl(:, jj) = bigphi(1:nbb, c0, jj) < 0.0_wp
+          rr(:, jj) = bigphi(1:nbb, c0, jj + 1) < 0.0_wp
         end do
       end select
+      if (scalar_kind == scalar_flux_upwind) up = rl .and. rr
+      where (rl .and. .not. rr) surf = 1
+      where (rr .and. .not. rl) surf = 2
     end subroutine upwind_faces
 
     !> The faces of a bundle next to a trouble cell (none without the trouble mask).
@@ -336,12 +350,13 @@ contains
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
   subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, wall, vwall, up, &
-      low, pw, wl, wr, el, er, cl, cr, f, nfallback, failed)
+      surf, low, pw, wl, wr, el, er, cl, cr, f, nfallback, failed)
     type(eos_t), intent(in) :: eos
     real(wp), intent(in) :: shear
     integer, intent(in) :: scheme, flux_kind, nb, n, g, nv
     logical, intent(in) :: wall(2)
     logical, intent(in) :: up(nb, 0:n)    !< faces whose scalars take the upwind flux
+    integer, intent(in) :: surf(nb, 0:n)  !< faces on a body's surface (m_flux)
     logical, intent(in) :: low(nb, 0:n)   !< faces reconstructed at first order
     real(wp), intent(in) :: vwall(2)
     real(wp), intent(in) :: pw(nb, 1-g:n+g, nv)
@@ -405,7 +420,7 @@ contains
     call eos_energy(eos, nf, wl(:, :, 1), wl(:, :, 5), el)
     call eos_energy(eos, nf, wr(:, :, 1), wr(:, :, 5), er)
     if (nv > n_euler) then
-      call flux_llf_solid(nf, nv, up, wl, wr, el, er, cl, cr, f)
+      call flux_llf_solid(nf, nv, up, wl, wr, el, er, cl, cr, f, surf)
     else
       call face_flux(flux_kind, nf, wl, wr, el, er, cl, cr, f)
     end if
@@ -474,14 +489,19 @@ contains
   !> is brought back to the yield surface cell by cell. Total energy is untouched: of the
   !> plastic work, the Taylor-Quinney share beta stays in e as heat and 1 - beta is booked as
   !> stored work w_c, which the temperature leaves out.
-  subroutine plastic_correction(lay, eos, st, thermal, dt, q)
+  !> With level sets, only the phase's real cells are returned (ghost states are rebuilt before
+  !> every stage); a cell that has just turned real (fresh) holds a ghost state whose
+  !> deviator was built for the flux (the reflected normal stress of MVI) and never loaded
+  !> material: it is brought to the yield surface without plastic strain or stored work.
+  subroutine plastic_correction(lay, eos, st, thermal, dt, q, isreal, fresh)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st
     logical, intent(in) :: thermal   !< false: the yield stress sees the reference temperature
     real(wp), intent(in) :: dt
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
-    real(wp), dimension(lay%bsize(1)) :: rho, u, v, w, p, e, temp, epsp, dwp
+    logical, intent(in), optional :: isreal(:, :, :), fresh(:, :, :)
+    real(wp), dimension(lay%bsize(1)) :: rho, u, v, w, p, e, temp, epsp, dwp, epsp0
     real(wp) :: sdev(lay%bsize(1), 6)
     integer :: j, k, m, n
     n = lay%bsize(1)
@@ -498,9 +518,20 @@ contains
           sdev(:, m) = q(1:n, j, k, i_sxx + m - 1) / rho
         end do
         epsp = q(1:n, j, k, i_epsp) / rho
+        epsp0 = epsp
         call radial_return(st, n, sdev, epsp, temp, dt, dwp)
+        if (present(fresh)) then
+          where (fresh(:, j, k) .or. .not. isreal(:, j, k))
+            epsp = epsp0
+            dwp = 0.0_wp
+          end where
+        end if
         do m = 1, 6
-          q(1:n, j, k, i_sxx + m - 1) = rho * sdev(:, m)
+          if (present(isreal)) then
+            where (isreal(:, j, k)) q(1:n, j, k, i_sxx + m - 1) = rho * sdev(:, m)
+          else
+            q(1:n, j, k, i_sxx + m - 1) = rho * sdev(:, m)
+          end if
         end do
         q(1:n, j, k, i_epsp) = rho * epsp
         q(1:n, j, k, i_wcold) = q(1:n, j, k, i_wcold) + (1.0_wp - st%taylor_quinney) * dwp

@@ -139,9 +139,13 @@ contains
   !> and under the CFL condition of the mass update phi stays within its neighbours' range
   !> at first order. The stress keeps its LLF dissipation: it is the only dissipation of the
   !> elastic waves, whose coupling to the velocity is in the source (eq. 5.1).
-  subroutine flux_llf_solid(nf, nv, upwind, wl, wr, el, er, cl, cr, f)
+  subroutine flux_llf_solid(nf, nv, upwind, wl, wr, el, er, cl, cr, f, surface)
     integer, intent(in) :: nf, nv
     logical, intent(in) :: upwind(nf)    !< faces whose scalars take the upwind flux
+    !> faces on a body's surface: 1 the left cell is real and the right one a ghost, 2 the
+    !> other way round, 0 neither; there the transported variables (S, eps_p, w_c) move with
+    !> the mass flux at the real cell's value (their ghost values serve the traction only)
+    integer, intent(in), optional :: surface(nf)
     real(wp), intent(in) :: wl(nf, nv), wr(nf, nv), el(nf), er(nf), cl(nf), cr(nf)
     real(wp), intent(out) :: f(nf, nv)
     real(wp) :: a(nf), ml, mr, enl, enr
@@ -169,10 +173,18 @@ contains
           - a(i) * (wr(i, 1) * wr(i, m) - wl(i, 1) * wl(i, m)))
       end do
     end do
-    if (.not. any(upwind)) return
-    do m = first_scalar, nv
+    if (any(upwind)) then
+      do m = first_scalar, nv
+        do i = 1, nf
+          if (upwind(i)) f(i, m) = f(i, 1) * merge(wl(i, m), wr(i, m), f(i, 1) >= 0.0_wp)
+        end do
+      end do
+    end if
+    if (.not. present(surface)) return
+    do m = 6, nv
       do i = 1, nf
-        if (upwind(i)) f(i, m) = f(i, 1) * merge(wl(i, m), wr(i, m), f(i, 1) >= 0.0_wp)
+        if (surface(i) == 1) f(i, m) = f(i, 1) * wl(i, m)
+        if (surface(i) == 2) f(i, m) = f(i, 1) * wr(i, m)
       end do
     end do
   end subroutine flux_llf_solid

@@ -2,8 +2,9 @@
 !> face states: with either scalar flux a uniform specific scalar is carried exactly by the
 !> mass flux (consistency); the upwind scalar flux is F_rho phi of the upwind side, zero
 !> across a mirror (wall) face; the choice leaves the mass, momentum, energy and stress fluxes
-!> bit-identical, and the choice is per face; and one first-order step of rho phi with the
-!> upwind flux keeps phi within the range of its neighbours.
+!> bit-identical, and the choice is per face; on a body's surface face every transported
+!> variable moves with the mass flux at the real side's value; and one first-order step of
+!> rho phi with the upwind flux keeps phi within the range of its neighbours.
 program test_flux
   use m_kinds, only: wp
   use m_state, only: n_solid, i_epsp, i_wcold
@@ -17,7 +18,7 @@ program test_flux
   real(wp) :: wl(nf, nv), wr(nf, nv), el(nf), er(nf), cl(nf), cr(nf)
   real(wp) :: fu(nf, nv), fl(nf, nv), fm(nf, nv), phi_up
   logical :: mixed(nf)
-  integer :: nfail, i, m
+  integer :: nfail, i, m, side(nf)
   logical, parameter :: llf(nf) = .false., upwind(nf) = .true.
   call comm_init()
   nfail = 0
@@ -51,6 +52,32 @@ program test_flux
       phi_up = merge(wl(i, m), wr(i, m), fu(i, 1) >= 0.0_wp)
       call expect('upwind value', abs(fu(i, m) - fu(i, 1) * phi_up) &
         <= tol * abs(fu(i, 1) * phi_up))
+    end do
+  end do
+
+  ! surface faces (one side real, the other a ghost): every transported variable (S, eps_p,
+  ! w_c) is the mass flux times the real side's value, whatever the ghost holds; mass,
+  ! momentum and energy fluxes are those of LLF
+  call random_states(wl, wr, el, er, cl, cr)
+  side = [(mod(i, 3), i = 1, nf)]
+  call flux_llf_solid(nf, nv, llf, wl, wr, el, er, cl, cr, fl)
+  call flux_llf_solid(nf, nv, upwind, wl, wr, el, er, cl, cr, fu)
+  call flux_llf_solid(nf, nv, mixed, wl, wr, el, er, cl, cr, fm, side)
+  call expect('surface: mass, momentum, energy unchanged', &
+    maxval(abs(fm(:, 1:5) - fl(:, 1:5))) <= 0.0_wp)
+  do i = 1, nf
+    do m = 6, nv
+      select case (side(i))
+      case (1)
+        call expect('surface: left real', abs(fm(i, m) - fl(i, 1) * wl(i, m)) &
+          <= tol * abs(fl(i, 1) * wl(i, m)))
+      case (2)
+        call expect('surface: right real', abs(fm(i, m) - fl(i, 1) * wr(i, m)) &
+          <= tol * abs(fl(i, 1) * wr(i, m)))
+      case default
+        call expect('surface: none', abs(fm(i, m) - merge(fu(i, m), fl(i, m), &
+          mixed(i) .and. m >= i_epsp)) <= 0.0_wp)
+      end select
     end do
   end do
 
