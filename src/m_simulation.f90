@@ -193,7 +193,7 @@ contains
     whole = .false.
     do b = 1, cfg%n_bodies
       associate (body => cfg%bodies(b))
-        if (body%material == cfg%base_material) cycle
+        if (.not. own_level_set(b)) cycle
         ! a resting rigid body made of whole blocks: those blocks are switched off and their
         ! faces are exact walls of the neighbouring blocks (m_boundary); no level set
         if (body%material == 'rigid' .and. .not. any(abs(body%velocity) > 0.0_wp)) &
@@ -205,8 +205,7 @@ contains
         end do
       end associate
     end do
-    n = count([(cfg%bodies(b)%material /= cfg%base_material .and. .not. whole(b), &
-      b = 1, cfg%n_bodies)])
+    n = count([(own_level_set(b) .and. .not. whole(b), b = 1, cfg%n_bodies)])
     sim%ls%n = n
     allocate(sim%ls%kind(n), sim%ls%body(n), sim%ls%name(n), sim%ls%velocity(3, n), &
       sim%ls%phase(n))
@@ -219,7 +218,7 @@ contains
     n = 0
     do b = 1, cfg%n_bodies
       associate (body => cfg%bodies(b))
-        if (body%material == cfg%base_material .or. whole(b)) cycle
+        if (.not. own_level_set(b) .or. whole(b)) cycle
         n = n + 1
         sim%ls%body(n) = b
         sim%ls%name(n) = body%name
@@ -257,6 +256,21 @@ contains
     end do
     sim%ls%nphase = np
     sim%material = sim%material(1:np)
+
+  contains
+
+    !> A body of the base material only sets the initial state; so does a void body in a
+    !> void base, unless a material body comes before it in the deck, which it then carves
+    !> (a hole in a plate).
+    logical function own_level_set(ib)
+      integer, intent(in) :: ib
+      integer :: ia
+      own_level_set = cfg%bodies(ib)%material /= cfg%base_material
+      if (own_level_set .or. cfg%bodies(ib)%material /= 'void') return
+      own_level_set = any([(cfg%bodies(ia)%material /= 'void' .and. &
+        cfg%bodies(ia)%material /= 'rigid', ia = 1, ib - 1)])
+    end function own_level_set
+
   end subroutine level_set_bodies
 
   function eos_of(mat) result(eos)
