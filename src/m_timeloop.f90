@@ -275,7 +275,8 @@ contains
           call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
             sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
             blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
-            nf, failed, sim%gwork%bigphi(:, :, :, p), trouble)
+            nf, failed, sim%gwork%bigphi(:, :, :, p), trouble, &
+            surface_llf=sim%cfg%surface_flux == 'llf')
         else
           call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
             sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &

@@ -110,6 +110,8 @@ contains
     call log_line(line)
     if (s%has_strength) call log_line('numerics: flux of eps_p and w_c ' // &
       trim(s%cfg%scalar_flux))
+    if (s%has_strength .and. s%ls%n > 0) call log_line('numerics: S, eps_p, w_c across ' // &
+      'surface faces: ' // trim(s%cfg%surface_flux))
     do k = 1, s%nphase
       write(line, '(a,i0,a)') 'phase ', k, ': material ' // trim(s%material(k)) // ' (eos ' // &
         trim(eos_name(s, k)) // ')'

@@ -84,7 +84,7 @@ contains
   !> first order; failed is set (and the rest skipped) when even the cell values next to a
   !> face are not admissible: the stage cannot go on and the caller recomputes the step.
   subroutine euler_rhs(lay, eos, st, scheme, flux_kind, scalar_kind, q, rhs, offset, wall, &
-      vwall, work, nfallback, failed, bigphi, trouble)
+      vwall, work, nfallback, failed, bigphi, trouble, surface_llf)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st    !< strength (used when q carries the stress)
@@ -103,6 +103,8 @@ contains
     !> cells of the interior whose last update was inadmissible (the cell-local fallback,
     !> m_timeloop): every face of theirs is reconstructed at first order
     logical, intent(in), optional :: trouble(:, :, :)
+    !> surface faces keep the LLF flux of S, eps_p and w_c (&numerics surface_flux = 'llf')
+    logical, intent(in), optional :: surface_llf
     integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m
     real(wp) :: rdx, r
     lo = 1 - lay%ng
@@ -227,6 +229,9 @@ contains
         end do
       end select
       if (scalar_kind == scalar_flux_upwind) up = rl .and. rr
+      if (present(surface_llf)) then
+        if (surface_llf) return
+      end if
       where (rl .and. .not. rr) surf = 1
       where (rr .and. .not. rl) surf = 2
     end subroutine upwind_faces
