@@ -138,8 +138,8 @@ contains
           call upwind_faces(d, k, nb, n, work%up, work%surf)
           call low_faces(d, k, nb, n, work%low)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
-            work%cl, work%cr, work%f, nfallback, failed)
+            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
+            work%er, work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_x(k, nb, n, work%f)
         end do
@@ -152,8 +152,8 @@ contains
           call upwind_faces(d, k, nb, n, work%up, work%surf)
           call low_faces(d, k, nb, n, work%low)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
-            work%cl, work%cr, work%f, nfallback, failed)
+            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
+            work%er, work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_y(k, nb, n, work%f)
         end do
@@ -166,8 +166,8 @@ contains
           call upwind_faces(d, j, nb, n, work%up, work%surf)
           call low_faces(d, j, nb, n, work%low)
           call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
-            work%cl, work%cr, work%f, nfallback, failed)
+            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
+            work%er, work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
           call scatter_z(j, nb, n, work%f)
         end do
