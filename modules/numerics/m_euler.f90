@@ -498,6 +498,7 @@ contains
   !> every stage); a cell that has just turned real (fresh) holds a ghost state whose
   !> deviator was built for the flux (the reflected normal stress of MVI) and never loaded
   !> material: it is brought to the yield surface without plastic strain or stored work.
+  !> fresh is read only together with isreal.
   subroutine plastic_correction(lay, eos, st, thermal, dt, q, isreal, fresh)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
@@ -512,6 +513,10 @@ contains
     n = lay%bsize(1)
     do k = 1, lay%bsize(3)
       do j = 1, lay%bsize(2)
+        if (present(isreal)) then
+          ! a row of ghosts and rest states only: nothing to return (void costs nothing)
+          if (.not. any(isreal(:, j, k))) cycle
+        end if
         call primitive_row(eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
           q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
         if (thermal) then
