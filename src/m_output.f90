@@ -194,6 +194,13 @@ contains
     call h5_write_attr(f, 'next_plot_time', sim%next_plot_time)
     call h5_write_attr(f, 'dt_first', sim%dt_first)
     call h5_write_attr(f, 'nvar', sim%nvar)
+    if (sim%fix_mass) then
+      ! the conservation fix's state (m_timeloop::conserve_step)
+      call h5_write_attr(f, 'fix_content', reshape(sim%content, [size(sim%content)]))
+      call h5_write_attr(f, 'fix_taken', reshape(sim%fixed, [size(sim%fixed)]))
+      call h5_write_attr(f, 'fix_content0', sim%content0)
+      call h5_write_attr(f, 'fix_clamped', sim%fix_clamped)
+    end if
     do m = 1, sim%nvar
       do b = 1, size(sim%blocks)
         data(:, :, :, b) = sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m)
@@ -212,6 +219,7 @@ contains
     real(wp), allocatable :: data(:, :, :, :)
     integer, allocatable :: ids(:)
     integer :: m, b, n(3), cells(3), nvar
+    real(wp), allocatable :: fix(:)
     ! that the file exists was checked with the deck (deck_prepare_output)
     n = sim%lay%bsize
     allocate(data(n(1), n(2), n(3), size(sim%blocks)))
@@ -229,6 +237,15 @@ contains
     call h5_read_attr(f, 'last_plot_step', sim%last_plot_step)
     call h5_read_attr(f, 'next_plot_time', sim%next_plot_time)
     call h5_read_attr(f, 'dt_first', sim%dt_first)
+    if (sim%fix_mass) then
+      allocate(fix(size(sim%content)))
+      call h5_read_attr(f, 'fix_content', fix)
+      sim%content = reshape(fix, shape(sim%content))
+      call h5_read_attr(f, 'fix_taken', fix)
+      sim%fixed = reshape(fix, shape(sim%fixed))
+      call h5_read_attr(f, 'fix_content0', sim%content0)
+      call h5_read_attr(f, 'fix_clamped', sim%fix_clamped)
+    end if
     do m = 1, sim%nvar
       call h5_read_field(f, trim(state_names(m)), sim%lay, ids, data)
       do b = 1, size(sim%blocks)
@@ -250,6 +267,8 @@ contains
     cols = [character(len=name_len) :: 'step', 'time', 'dt', 'mass', 'mom_x', 'mom_y', &
       'mom_z', 'kinetic', 'internal', 'total_energy', 'max_p', 'max_T', 'max_eps_p', &
       'fallback_faces', 'first_order_steps', 'first_order_cells']
+    if (sim%fix_mass) cols = [character(len=name_len) :: cols, 'solid_mass', 'solid_energy', &
+      'fixed_mass', 'fixed_energy']
     do l = 1, sim%ls%n
       if (sim%ls%kind(l) /= ls_material) cycle
       cols = [character(len=name_len) :: cols, &
@@ -320,6 +339,7 @@ contains
     call comm_sum_array(tot(1:7))
     v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), comm_max(epmax), tot(8), &
       real(sim%first_order_steps, wp), real(comm_sum(sim%cells_low), wp)]
+    if (sim%fix_mass) v = [v, sim%measure, sum(sim%fixed, dim=2)]
     nb = count(sim%ls%kind == ls_material)
     if (nb == 0) return
     allocate(body(8, nb))

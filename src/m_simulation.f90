@@ -59,6 +59,17 @@ module m_simulation
     real(wp), allocatable :: vel(:, :, :, :)   !< level-set advection velocity (padded block)
     real(wp), allocatable :: ls_rhs(:, :, :)
     logical, allocatable :: dormant(:)         !< block entirely beyond the ghost band
+    ! the conservation fix of the ghost-fluid method (m_gfm_conserve; m_timeloop)
+    logical :: fix_mass = .false.      !< solid phases with level sets, conserve /= 'none'
+    logical :: fix_energy = .false.    !< energy too: no flowing base, no moving rigid body
+    character(len=256) :: fix_reason = ''
+    real(wp), allocatable :: bflux(:, :, :, :)  !< (2, phase, block, stage): domain-side rates
+    real(wp), allocatable :: content(:, :)      !< (2, phase): target mass and energy
+    real(wp) :: measure(2) = 0.0_wp    !< the solids' measured mass and energy after the fix
+    real(wp), allocatable :: lost(:, :)         !< (2, phase): debris dropped this step
+    real(wp), allocatable :: fixed(:, :)        !< (2, phase): content taken out so far
+    real(wp) :: content0(2) = 0.0_wp   !< the solids' mass and energy at the run's start
+    integer :: fix_clamped = 0         !< fixes held to a tenth of the surface content
     logical :: has_strength = .false.  !< the state carries rho S and rho eps_p
     character(len=256) :: strength_reason = ''
     integer :: scheme = 3, flux = 1
@@ -147,6 +158,7 @@ contains
       allocate(sim%ls_rhs(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
       allocate(sim%dormant(size(sim%blocks)))
       sim%dormant = .false.
+      call fix_setup(sim)
     end if
     sim%scheme = scheme_from_name(cfg%scheme)
     sim%flux = flux_from_name(cfg%flux)
@@ -389,5 +401,40 @@ contains
     sinc = 1.0_wp
     if (abs(z) > 1.0e-8_wp) sinc = sin(z) / z
   end function sinc
+
+  !> Which parts of the conservation fix apply (m_gfm_conserve), and why.
+  subroutine fix_setup(sim)
+    type(sim_t), intent(inout) :: sim
+    integer :: l
+    logical :: moving
+    allocate(sim%bflux(2, sim%nphase, size(sim%blocks), 3), sim%content(2, sim%nphase))
+    allocate(sim%lost(2, sim%nphase), sim%fixed(2, sim%nphase))
+    sim%bflux = 0.0_wp
+    sim%content = 0.0_wp
+    sim%lost = 0.0_wp
+    sim%fixed = 0.0_wp
+    sim%fix_mass = any(sim%strong) .and. sim%cfg%conserve /= 'none'
+    if (.not. sim%fix_mass) then
+      sim%fix_reason = 'off: no solid phase with a surface'
+      if (any(sim%strong)) sim%fix_reason = 'off: &numerics conserve = ''none'''
+      return
+    end if
+    moving = .false.
+    do l = 1, sim%ls%n
+      if (sim%ls%kind(l) == ls_rigid) moving = moving .or. any(abs(sim%ls%velocity(:, l)) > 0.0_wp)
+    end do
+    sim%fix_energy = sim%cfg%conserve == 'mass_energy' .and. .not. sim%ls%base_flows &
+      .and. .not. moving
+    sim%fix_reason = 'mass and energy of the solid phases'
+    if (sim%fix_energy) return
+    sim%fix_reason = 'mass of each solid phase; energy not: '
+    if (sim%cfg%conserve == 'mass') then
+      sim%fix_reason = trim(sim%fix_reason) // ' &numerics conserve = ''mass'''
+    else if (sim%ls%base_flows) then
+      sim%fix_reason = trim(sim%fix_reason) // ' the base material exchanges work with them'
+    else
+      sim%fix_reason = trim(sim%fix_reason) // ' a moving rigid body does work on them'
+    end if
+  end subroutine fix_setup
 
 end module m_simulation

@@ -133,6 +133,8 @@ contains
     end if
     call log_line('effects: heat conduction off, reaction off (not in this version)')
     call log_line('effects: interfaces ' // trim(interfaces_reason(s)))
+    if (s%ls%n > 0 .and. s%has_strength) call log_line('gfm: conservation fix ' // &
+      trim(s%fix_reason))
     if (s%has_strength) then
       write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
         'rho w, rho E, rho S (6), rho eps_p, rho w_c'
@@ -207,6 +209,14 @@ contains
       write(line, '(a,i0,a)') 'gfm: ', comm_sum(s%gcount%debris), ' inadmissible cells ' // &
         'within 2 cells of a body surface taken out of the body as debris'
       call log_line(line)
+      if (s%fix_mass) then
+        write(line, '(a,es11.4,a,f8.4,a,es11.4,a,f8.4,a,i0,a)') 'gfm: conservation fix ' // &
+          'took out ', sum(s%fixed(1, :)), ' kg (', 100 * sum(s%fixed(1, :)) / s%content0(1), &
+          ' % of the solids'' mass) and ', sum(s%fixed(2, :)), ' J (', &
+          100 * sum(s%fixed(2, :)) / s%content0(2), ' % of their energy); ', s%fix_clamped, &
+          ' fixes held to a tenth of the surface content'
+        call log_line(line)
+      end if
       write(line, '(a,f9.3,a,f9.3,a)') 'gfm: ghost fill ', &
         comm_max(timer_total(s%timers, 'gfm')), ' s, reinitialisation ', &
         comm_max(timer_total(s%timers, 'reinit')), ' s'

@@ -100,6 +100,9 @@ module m_config
     character(len=name_len) :: scalar_flux = 'llf'      !< solids: flux of rho eps_p, rho w_c
     !> solids with level sets: S, eps_p, w_c across a surface face ('material' | 'llf')
     character(len=name_len) :: surface_flux = 'material'
+    !> solids with level sets: what the conservation fix returns ('mass_energy' | 'mass' |
+    !> 'none'; m_gfm_conserve)
+    character(len=name_len) :: conserve = 'mass_energy'
     integer :: rk_order = 3
     real(wp) :: cfl = 0.5_wp
     real(wp) :: dt_max = unset               !< optional cap on dt (order studies)

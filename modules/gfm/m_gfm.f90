@@ -366,17 +366,20 @@ contains
   !> c^2 <= 0 or not finite) within two cells of the body's surface is a sliver thinner than
   !> the mesh can carry (a fragment or a sheet crushed below a cell). It is taken out of the
   !> body (its level set set to half a cell outside) and holds the rest state; the count goes
-  !> to the run log and history.csv, and the body's mass column shows what was lost. Cells
-  !> deeper inside, and cells of the base phase, are left alone: the step's fallback (or its
-  !> failure) deals with them.
-  subroutine gfm_drop_debris(lay, scn, set, q, counts)
+  !> to the run log and history.csv, and the body's mass column shows what was lost (lost adds
+  !> the mass and energy taken out, per phase, 2 pi r weighted in axisymmetry: the
+  !> conservation fix does not put them back). Cells deeper inside, and cells of the base
+  !> phase, are left alone: the step's fallback (or its failure) deals with them.
+  subroutine gfm_drop_debris(lay, scn, set, offset, q, counts, lost)
     type(layout_t), intent(in) :: lay
     type(gfm_scene_t), intent(in) :: scn
     type(ls_set_t), intent(in) :: set
+    integer, intent(in) :: offset(3)
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     type(gfm_counts_t), intent(inout) :: counts
+    real(wp), intent(inout) :: lost(:, :)
     integer :: i, j, k, l, p, off, ils
-    real(wp) :: w(5), c2(1), e(1), h
+    real(wp) :: w(5), c2(1), e(1), h, dv
     real(wp) :: qrest(scn%nflow)
     ils = set%nphase * scn%nflow
     h = maxval(lay%dx(1:lay%ndim))
@@ -398,6 +401,11 @@ contains
               if (c2(1) > 0.0_wp .and. c2(1) <= huge(1.0_wp)) cycle
             end if
             counts%debris = counts%debris + 1
+            dv = product(lay%dx(1:lay%ndim))
+            if (lay%axisymmetric) dv = dv * 8.0_wp * atan(1.0_wp) &
+              * (lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1))
+            if (abs(q(i, j, k, off + i_en)) <= huge(1.0_wp)) lost(:, p) = lost(:, p) &
+              + dv * [q(i, j, k, off + i_rho), q(i, j, k, off + i_en)]
             qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))
             q(i, j, k, ils + l) = 0.5_wp * h
             q(i, j, k, off + 1:off + scn%nflow) = qrest

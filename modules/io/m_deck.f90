@@ -282,17 +282,18 @@ contains
     character(len=*), intent(in) :: base
     type(deck_group_t), intent(in) :: g
     type(config_t), intent(inout) :: cfg
-    character(len=name_len) :: scheme, flux, scalar_flux, gfm_probe, surface_flux
+    character(len=name_len) :: scheme, flux, scalar_flux, gfm_probe, surface_flux, conserve
     real(wp) :: cfl, dt_max, contact_kappa
     integer :: rk_order, reinit_every, band, k, ios
     character(len=:), allocatable :: rec
     character(len=line_len) :: msg
     namelist /numerics/ scheme, flux, scalar_flux, rk_order, cfl, dt_max, gfm_probe, &
-      reinit_every, band, contact_kappa, surface_flux
+      reinit_every, band, contact_kappa, surface_flux, conserve
     scheme = cfg%scheme
     flux = cfg%flux
     scalar_flux = cfg%scalar_flux
     surface_flux = cfg%surface_flux
+    conserve = cfg%conserve
     rk_order = cfg%rk_order
     cfl = cfg%cfl
     dt_max = cfg%dt_max
@@ -309,6 +310,7 @@ contains
     cfg%flux = to_lower(flux)
     cfg%scalar_flux = to_lower(scalar_flux)
     cfg%surface_flux = to_lower(surface_flux)
+    cfg%conserve = to_lower(conserve)
     cfg%rk_order = rk_order
     cfg%cfl = cfl
     cfg%dt_max = dt_max

@@ -27,6 +27,7 @@ module m_deck_check
   character(len=*), parameter :: fluxes = 'llf, hllc'
   character(len=*), parameter :: scalar_fluxes = 'llf, upwind'
   character(len=*), parameter :: surface_fluxes = 'material, llf'
+  character(len=*), parameter :: conserves = 'mass_energy, mass, none'
   character(len=*), parameter :: probes = 'trilinear, least_squares, auto'
   character(len=*), parameter :: eoses = &
     'ideal_gas, stiffened_gas, mie_gruneisen, polynomial_mie_gruneisen'
@@ -192,6 +193,7 @@ contains
     call check_choice(base, 'numerics', 'flux', cfg%flux, fluxes)
     call check_choice(base, 'numerics', 'scalar_flux', cfg%scalar_flux, scalar_fluxes)
     call check_choice(base, 'numerics', 'surface_flux', cfg%surface_flux, surface_fluxes)
+    call check_choice(base, 'numerics', 'conserve', cfg%conserve, conserves)
     if (cfg%rk_order < 1 .or. cfg%rk_order > 3) call bad(base, 'numerics', 'rk_order', &
       'must be 1, 2 or 3, got ' // int_text(cfg%rk_order))
     if (.not. (cfg%cfl > 0.0_wp .and. cfg%cfl <= 1.0_wp)) call bad(base, 'numerics', 'cfl', &

@@ -38,11 +38,12 @@ module m_deck_schema
     var_info_t('bc_velocity', 'r', 3, 0, '100.0, 0.0, 0.0'), &
     var_info_t('bc_rise_time', 'r', 1, 0, '1.0e-6'), &
     var_info_t('base_material', 'c', 1, name_len, "'air'")]
-  type(var_info_t), parameter :: numerics_vars(11) = [ &
+  type(var_info_t), parameter :: numerics_vars(12) = [ &
     var_info_t('scheme', 'c', 1, name_len, "'eno3'"), &
     var_info_t('flux', 'c', 1, name_len, "'hllc'"), &
     var_info_t('scalar_flux', 'c', 1, name_len, "'upwind'"), &
     var_info_t('surface_flux', 'c', 1, name_len, "'material'"), &
+    var_info_t('conserve', 'c', 1, name_len, "'mass_energy'"), &
     var_info_t('rk_order', 'i', 1, 0, '3'), &
     var_info_t('cfl', 'r', 1, 0, '0.5'), &
     var_info_t('dt_max', 'r', 1, 0, '1.0e-7'), &

@@ -130,6 +130,7 @@ contains
       call put(u, 'flux', quoted(cfg%flux))
       call put(u, 'scalar_flux', quoted(cfg%scalar_flux))
       call put(u, 'surface_flux', quoted(cfg%surface_flux))
+      call put(u, 'conserve', quoted(cfg%conserve))
       call put(u, 'rk_order', int_text(cfg%rk_order))
       call put_real(u, 'cfl', cfg%cfl)
       call put_real(u, 'dt_max', cfg%dt_max)

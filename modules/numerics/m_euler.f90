@@ -35,6 +35,10 @@ module m_euler
     logical, allocatable :: up(:)                  !< faces with upwind scalars (nb, 0:n)
     integer, allocatable :: surf(:)                !< faces on a surface (nb, 0:n; m_flux)
     logical, allocatable :: low(:)                 !< faces forced to first order (nb, 0:n)
+    !> what the last euler_rhs let in through the domain's sides into the real cells: the
+    !> rates of mass and total energy (kg/s, W; 2 pi r weighted in axisymmetry), for the
+    !> conservation fix of the ghost-fluid method (m_gfm_conserve)
+    real(wp) :: bflux(2) = 0.0_wp
   end type euler_work_t
 
 contains
@@ -122,6 +126,7 @@ contains
       end do
     end do
     rhs = 0.0_wp
+    work%bflux = 0.0_wp
     do d = 1, lay%ndim
       n = lay%bsize(d)
       g = lay%ng(d)
@@ -301,6 +306,10 @@ contains
           end do
         end do
       end do
+      do jj = 1, nbb
+        if (side(1, 1, 1, jj, k0)) call edge(wlo(1) * f(jj, 0, :), 1)
+        if (side(1, 2, nn, jj, k0)) call edge(-whi(nn) * f(jj, nn, :), nn)
+      end do
     end subroutine scatter_x
 
     subroutine bundle_y(k0, nbb, nn, gg, pw)
@@ -317,12 +326,16 @@ contains
     subroutine scatter_y(k0, nbb, nn, f)
       integer, intent(in) :: k0, nbb, nn
       real(wp), intent(in) :: f(nbb, 0:nn, nv)
-      integer :: mm, jj
+      integer :: mm, jj, ii
       do mm = 1, nv
         do jj = 1, nn
           rhs(1:nbb, jj, k0, perm(mm)) = rhs(1:nbb, jj, k0, perm(mm)) &
             - rdx * (f(:, jj, mm) - f(:, jj - 1, mm))
         end do
+      end do
+      do ii = 1, nbb
+        if (side(2, 1, ii, 1, k0)) call edge(rdx * f(ii, 0, :), ii)
+        if (side(2, 2, ii, nn, k0)) call edge(-rdx * f(ii, nn, :), ii)
       end do
     end subroutine scatter_y
 
@@ -340,14 +353,44 @@ contains
     subroutine scatter_z(j0, nbb, nn, f)
       integer, intent(in) :: j0, nbb, nn
       real(wp), intent(in) :: f(nbb, 0:nn, nv)
-      integer :: mm, kk
+      integer :: mm, kk, ii
       do mm = 1, nv
         do kk = 1, nn
           rhs(1:nbb, j0, kk, perm(mm)) = rhs(1:nbb, j0, kk, perm(mm)) &
             - rdx * (f(:, kk, mm) - f(:, kk - 1, mm))
         end do
       end do
+      do ii = 1, nbb
+        if (side(3, 1, ii, j0, 1)) call edge(rdx * f(ii, 0, :), ii)
+        if (side(3, 2, ii, j0, nn)) call edge(-rdx * f(ii, nn, :), ii)
+      end do
     end subroutine scatter_z
+
+    !> whether cell (i0, j0, k0) lies on the domain's low (lh = 1) or high (2) side in
+    !> direction dd (not a periodic one) and is real for the phase
+    logical function side(dd, lh, i0, j0, k0) result(yes)
+      integer, intent(in) :: dd, lh, i0, j0, k0
+      if (lh == 1) then
+        yes = offset(dd) == 0
+      else
+        yes = offset(dd) + lay%bsize(dd) == lay%cells(dd)
+      end if
+      yes = yes .and. .not. lay%periodic(dd)
+      if (.not. yes .or. .not. present(bigphi)) return
+      yes = bigphi(i0, j0, k0) < 0.0_wp
+    end function side
+
+    !> add the rate df (per unit volume, pencil order) of a cell of column i0 to work%bflux
+    subroutine edge(df, i0)
+      real(wp), intent(in) :: df(:)
+      integer, intent(in) :: i0
+      real(wp) :: dv
+      dv = product(lay%dx(1:lay%ndim))
+      if (lay%axisymmetric) dv = dv * 8.0_wp * atan(1.0_wp) &
+        * (lay%lo(1) + (real(offset(1) + i0, wp) - 0.5_wp) * lay%dx(1))
+      work%bflux(1) = work%bflux(1) + df(1) * dv
+      work%bflux(2) = work%bflux(2) + df(5) * dv
+    end subroutine edge
 
   end subroutine euler_rhs
 

@@ -6,13 +6,20 @@
 !> (sigma n = 0 to 1e-12 relative), J1 = tr S of the ghost is zero to round-off, density,
 !> pressure and velocity are extended; (3) an MRI ghost: the mean normal velocity is the
 !> wall's, the tangential velocity is extended, the normal stress is continuous and the
-!> shear traction of the mean is zero.
+!> shear traction of the mean is zero; (4) the conservation fix's kernels (m_gfm_conserve)
+!> on an axisymmetric block cut by a slanted surface: the content of a uniform state is its
+!> density times the volume fractions' sum, and after a fix with factor fm and energy
+!> coefficients the measured mass moves by (fm - 1) times the surface mass and the energy by
+!> what the coefficients say (1e-12), with velocity and specific stress unchanged.
 program test_gfm
   use m_kinds, only: wp
   use m_comm, only: comm_init, comm_exit
   use m_gfm_probe, only: probe_trilinear, probe_least_squares
   use m_gfm_mvi, only: gfm_mvi
   use m_gfm_mri, only: gfm_mri
+  use m_gfm_conserve, only: content_block, fix_block, n_content
+  use m_layout, only: layout_t, layout_init
+  use m_state, only: n_solid, i_rho, i_mx, i_my, i_en, i_sxx
   implicit none
   integer :: nfail
   call comm_init()
@@ -21,6 +28,7 @@ program test_gfm
   call check_probes(3)
   call check_classes(2)
   call check_classes(3)
+  call check_conserve()
   if (nfail == 0) then
     write(6, '(a)') 'PASS test_gfm'
     call comm_exit(0)
@@ -142,6 +150,56 @@ contains
     call require(trim(tag) // ' MRI: J1 of the ghost deviator is zero', &
       abs(wg(6) + wg(7) + wg(8) - sum(wi(6:8))) < 1.0e-12_wp * scale)
   end subroutine check_classes
+
+  subroutine check_conserve()
+    type(layout_t) :: lay
+    real(wp), allocatable :: q(:, :, :, :), phi(:, :, :)
+    real(wp) :: c0(n_content), c1(n_content), h, frac, r, z, fm, ah, am, heat0
+    integer :: i, j
+    call layout_init(lay, 2, [8, 8, 1], [8, 8, 1], [0.0_wp, 0.0_wp, 0.0_wp], &
+      [1.0_wp, 1.0_wp, 1.0_wp], [.false., .false., .false.], .true.)
+    allocate(q(-3:12, -3:12, 1:1, n_solid), phi(-3:12, -3:12, 1:1))
+    h = 0.125_wp
+    q = 0.0_wp
+    q(:, :, :, i_rho) = 2.0_wp
+    q(:, :, :, i_mx) = 2.0_wp * 3.0_wp
+    q(:, :, :, i_my) = -2.0_wp * 1.0_wp
+    q(:, :, :, i_en) = 2.0_wp * (7.0_wp + 0.5_wp * 10.0_wp)
+    q(:, :, :, i_sxx) = 2.0_wp * 0.25_wp
+    frac = 0.0_wp
+    do j = -3, 12
+      do i = -3, 12
+        r = (real(i, wp) - 0.5_wp) * h
+        z = (real(j, wp) - 0.5_wp) * h
+        phi(i, j, 1) = (0.6_wp * r + 0.8_wp * z) - 0.55_wp
+        if (i >= 1 .and. i <= 8 .and. j >= 1 .and. j <= 8 .and. phi(i, j, 1) < 0.5_wp * h) &
+          frac = frac + min(1.0_wp, 0.5_wp - phi(i, j, 1) / h) * h * h * 8.0_wp &
+          * atan(1.0_wp) * r
+      end do
+    end do
+    call content_block(lay, [0, 0, 0], q, phi, h, 2.0_wp * h, c0)
+    call require('fix: mass of a uniform state = rho x sum of volume fractions', &
+      abs(c0(1) - 2.0_wp * frac) < 1.0e-12_wp * c0(1))
+    call require('fix: internal energy share = rho e of the surface mass', &
+      abs(c0(5) - 7.0_wp * c0(3)) < 1.0e-12_wp * c0(5))
+    fm = 0.97_wp
+    ah = -0.02_wp
+    am = 0.0_wp
+    heat0 = c0(5)
+    call fix_block(lay, q, phi, 2.0_wp * h, fm, ah, am)
+    call content_block(lay, [0, 0, 0], q, phi, h, 2.0_wp * h, c1)
+    call require('fix: mass moves by (fm - 1) x surface mass', &
+      abs(c1(1) - c0(1) - (fm - 1.0_wp) * c0(3)) < 1.0e-12_wp * c0(1))
+    call require('fix: energy moves by the scaling and a_heat x surface heat', &
+      abs(c1(2) - c0(2) - (fm - 1.0_wp) * c0(4) - ah * fm * heat0) < 1.0e-12_wp * c0(2))
+    call require('fix: velocity and specific stress unchanged', &
+      all(abs(q(1:8, 1:8, 1, i_mx) / q(1:8, 1:8, 1, i_rho) - 3.0_wp) < 1.0e-13_wp) .and. &
+      all(abs(q(1:8, 1:8, 1, i_sxx) / q(1:8, 1:8, 1, i_rho) - 0.25_wp) < 1.0e-13_wp))
+    call fix_block(lay, q, phi, 2.0_wp * h, 1.0_wp, 0.0_wp, 0.5_wp)
+    call content_block(lay, [0, 0, 0], q, phi, h, 2.0_wp * h, c0)
+    call require('fix: a_mass adds a_mass x surface mass to the energy', &
+      abs(c0(2) - c1(2) - 0.5_wp * c1(3)) < 1.0e-12_wp * c0(2))
+  end subroutine check_conserve
 
   pure function stress(w) result(sig)
     real(wp), intent(in) :: w(:)
