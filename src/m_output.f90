@@ -200,6 +200,7 @@ contains
       call h5_write_attr(f, 'fix_taken', reshape(sim%fixed, [size(sim%fixed)]))
       call h5_write_attr(f, 'fix_content0', sim%content0)
       call h5_write_attr(f, 'fix_clamped', sim%fix_clamped)
+      call h5_write_attr(f, 'fix_open_cells', sim%open_cells)
     end if
     do m = 1, sim%nvar
       do b = 1, size(sim%blocks)
@@ -245,6 +246,7 @@ contains
       sim%fixed = reshape(fix, shape(sim%fixed))
       call h5_read_attr(f, 'fix_content0', sim%content0)
       call h5_read_attr(f, 'fix_clamped', sim%fix_clamped)
+      call h5_read_attr(f, 'fix_open_cells', sim%open_cells)
     end if
     do m = 1, sim%nvar
       call h5_read_field(f, trim(state_names(m)), sim%lay, ids, data)
@@ -268,7 +270,7 @@ contains
       'mom_z', 'kinetic', 'internal', 'total_energy', 'max_p', 'max_T', 'max_eps_p', &
       'fallback_faces', 'first_order_steps', 'first_order_cells']
     if (sim%fix_mass) cols = [character(len=name_len) :: cols, 'solid_mass', 'solid_energy', &
-      'fixed_mass', 'fixed_energy']
+      'fixed_mass', 'fixed_energy', 'target_mass', 'target_energy']
     do l = 1, sim%ls%n
       if (sim%ls%kind(l) /= ls_material) cycle
       cols = [character(len=name_len) :: cols, &
@@ -339,7 +341,7 @@ contains
     call comm_sum_array(tot(1:7))
     v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), comm_max(epmax), tot(8), &
       real(sim%first_order_steps, wp), real(comm_sum(sim%cells_low), wp)]
-    if (sim%fix_mass) v = [v, sim%measure, sum(sim%fixed, dim=2)]
+    if (sim%fix_mass) v = [v, sim%measure, sum(sim%fixed, dim=2), sum(sim%content, dim=2)]
     nb = count(sim%ls%kind == ls_material)
     if (nb == 0) return
     allocate(body(8, nb))

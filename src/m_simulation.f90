@@ -68,8 +68,10 @@ module m_simulation
     real(wp) :: measure(2) = 0.0_wp    !< the solids' measured mass and energy after the fix
     real(wp), allocatable :: lost(:, :)         !< (2, phase): debris dropped this step
     real(wp), allocatable :: fixed(:, :)        !< (2, phase): content taken out so far
+    real(wp), allocatable :: open_cells(:)      !< (phase): its real cells on outflow sides
     real(wp) :: content0(2) = 0.0_wp   !< the solids' mass and energy at the run's start
     integer :: fix_clamped = 0         !< fixes held to a tenth of the surface content
+    integer :: fix_aside = 0           !< steps with a solid on an open side: no fix
     logical :: has_strength = .false.  !< the state carries rho S and rho eps_p
     character(len=256) :: strength_reason = ''
     integer :: scheme = 3, flux = 1
@@ -408,7 +410,8 @@ contains
     integer :: l
     logical :: moving
     allocate(sim%bflux(2, sim%nphase, size(sim%blocks), 3), sim%content(2, sim%nphase))
-    allocate(sim%lost(2, sim%nphase), sim%fixed(2, sim%nphase))
+    allocate(sim%lost(2, sim%nphase), sim%fixed(2, sim%nphase), sim%open_cells(sim%nphase))
+    sim%open_cells = 0.0_wp
     sim%bflux = 0.0_wp
     sim%content = 0.0_wp
     sim%lost = 0.0_wp

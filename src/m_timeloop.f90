@@ -5,7 +5,7 @@ module m_timeloop
   use m_kinds, only: wp, i8, line_len
   use m_simulation, only: sim_t
   use m_halo, only: halo_exchange
-  use m_boundary, only: boundary_apply, boundary_walls
+  use m_boundary, only: boundary_apply, boundary_walls, bc_outflow
   use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update, plastic_correction, &
     primitive_row
   use m_eos, only: eos_sound_speed2
@@ -560,15 +560,15 @@ contains
   !> and, when apply is set, compared with their targets: the values at the run's start plus
   !> what came in through the domain's sides (the Runge-Kutta weighted rates of the stages)
   !> less the debris taken out. What lies outside a band around the targets (the measure's own
-  !> noise) is returned to the phase's surface cells (within two cells of its surface). The block sums are added in block order whatever the ranks, so results stay
-  !> bit-identical on any number of ranks. sim%fixed keeps what was taken out, for the log and
-  !> history.csv.
+  !> noise) is returned to the phase's surface cells (within two cells of its surface). The
+  !> block sums are added in block order whatever the ranks, so results stay bit-identical on
+  !> any number of ranks. sim%fixed keeps what was taken out, for the log and history.csv.
   subroutine conserve_step(sim, apply, changed)
     type(sim_t), intent(inout) :: sim
     logical, intent(in) :: apply
     logical, intent(out), optional :: changed   !< the fix changed the state
-    logical :: touched
-    integer, parameter :: nq = n_content + 2
+    logical :: touched, open_side(sim%nphase)
+    integer, parameter :: nq = n_content + 3
     real(wp) :: part(nq, sim%nphase, sim%lay%nblocks), c(nq, sim%nphase), w(3), width, h
     real(wp) :: eps, fm(sim%nphase), a_heat, a_mass, hs, ms, es, e_new(sim%nphase)
     real(wp) :: flat(nq * sim%nphase * sim%lay%nblocks), lost2(2 * sim%nphase)
@@ -601,9 +601,10 @@ contains
           sim%blocks(b)%q(:, :, :, off + 1:off + sim%nflow), sim%gwork%bigphi(:, :, :, p), &
           h, width, part(1:n_content, p, id))
         do s = 1, 3
-          part(n_content + 1:nq, p, id) = part(n_content + 1:nq, p, id) &
+          part(n_content + 1:n_content + 2, p, id) = part(n_content + 1:n_content + 2, p, id) &
             + w(s) * sim%bflux(:, p, b, s)
         end do
+        part(nq, p, id) = open_cells(b, p)
       end do
     end do
     flat = reshape(part, [size(part)])
@@ -615,6 +616,7 @@ contains
     end do
     if (present(changed)) changed = .false.
     if (.not. apply) then
+      sim%open_cells = c(nq, :)
       sim%content = c(1:2, :)
       sim%measure = sum(c(1:2, :), dim=2, mask=spread(sim%strong, 1, 2))
       return
@@ -624,14 +626,22 @@ contains
     call comm_sum_array(lost2)
     sim%lost = reshape(lost2, shape(sim%lost))
     ! the targets: the content at the start, moved by what crossed the domain's sides and by
-    ! the debris taken out
+    ! the debris taken out; a phase whose cells on the open (outflow) sides of the domain
+    ! changed in number is left alone, its target reset to its measure (what leaves there
+    ! cannot be told from what the update loses: the last half cell of a body leaving goes
+    ! with its level set)
     sim%content = sim%content + sim%dt * c(n_content + 1:n_content + 2, :) - sim%lost
+    open_side = abs(c(nq, :) - sim%open_cells) > 0.0_wp .and. sim%strong
+    sim%open_cells = c(nq, :)
+    if (any(open_side)) sim%fix_aside = sim%fix_aside + 1
+    where (open_side) sim%content(1, :) = c(1, :)
+    if (any(open_side)) sim%content(2, :) = c(2, :)
     ! mass, phase by phase: a factor on the surface cells
     fm = 1.0_wp
     do p = 1, sim%nphase
       if (.not. sim%strong(p)) cycle
       eps = 0.0_wp
-      if (c(3, p) > 0.0_wp) then
+      if (c(3, p) > 0.0_wp .and. .not. open_side(p)) then
         eps = outside(c(1, p), sim%content(1, p), band_mass)
         if (abs(eps) > most * c(3, p)) sim%fix_clamped = sim%fix_clamped + 1
         eps = max(-most * c(3, p), min(most * c(3, p), eps))
@@ -645,7 +655,7 @@ contains
     e_new = c(2, :) + (fm - 1.0_wp) * c(4, :)
     a_heat = 0.0_wp
     a_mass = 0.0_wp
-    if (sim%fix_energy) then
+    if (sim%fix_energy .and. .not. any(open_side)) then
       eps = outside(sum(e_new, mask=sim%strong), sum(sim%content(2, :), mask=sim%strong), &
         band_energy)
       hs = sum(fm * c(5, :), mask=sim%strong)
@@ -681,6 +691,32 @@ contains
     end do
 
   contains
+
+    !> the real cells of phase pp in block bb on the outflow sides of the domain
+    real(wp) function open_cells(bb, pp) result(cnt)
+      integer, intent(in) :: bb, pp
+      integer :: d, n(3), off3(3)
+      cnt = 0.0_wp
+      n = sim%lay%bsize
+      off3 = sim%blocks(bb)%offset
+      do d = 1, sim%lay%ndim
+        if (sim%bc%lo(d) == bc_outflow .and. off3(d) == 0) cnt = cnt + layer(d, 1, pp)
+        if (sim%bc%hi(d) == bc_outflow .and. off3(d) + n(d) == sim%lay%cells(d)) &
+          cnt = cnt + layer(d, n(d), pp)
+      end do
+    end function open_cells
+
+    !> the real cells of phase pp in layer m of direction d (of the block region() was given)
+    real(wp) function layer(d, m, pp) result(cnt)
+      integer, intent(in) :: d, m, pp
+      integer :: lo3(3), hi3(3)
+      lo3 = 1
+      hi3 = sim%lay%bsize
+      lo3(d) = m
+      hi3(d) = m
+      cnt = real(count(sim%gwork%bigphi(lo3(1):hi3(1), lo3(2):hi3(2), lo3(3):hi3(3), pp) &
+        < 0.0_wp), wp)
+    end function layer
 
     !> how far x lies outside target t (1 -+ band)
     pure real(wp) function outside(x, t, band) result(d)

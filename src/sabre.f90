@@ -216,6 +216,9 @@ contains
           100 * sum(s%fixed(2, :)) / s%content0(2), ' % of their energy); ', s%fix_clamped, &
           ' fixes held to a tenth of the surface content'
         call log_line(line)
+        write(line, '(a,i0,a)') 'gfm: conservation fix left aside in ', s%fix_aside, &
+          ' steps when a solid crossed an open (outflow) side of the domain'
+        call log_line(line)
       end if
       write(line, '(a,f9.3,a,f9.3,a)') 'gfm: ghost fill ', &
         comm_max(timer_total(s%timers, 'gfm')), ' s, reinitialisation ', &
