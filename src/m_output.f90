@@ -201,6 +201,7 @@ contains
       call h5_write_attr(f, 'fix_content0', sim%content0)
       call h5_write_attr(f, 'fix_clamped', sim%fix_clamped)
       call h5_write_attr(f, 'fix_open_cells', sim%open_cells)
+      call h5_write_attr(f, 'fix_crossing', sim%crossing)
     end if
     do m = 1, sim%nvar
       do b = 1, size(sim%blocks)
@@ -247,6 +248,7 @@ contains
       call h5_read_attr(f, 'fix_content0', sim%content0)
       call h5_read_attr(f, 'fix_clamped', sim%fix_clamped)
       call h5_read_attr(f, 'fix_open_cells', sim%open_cells)
+      call h5_read_attr(f, 'fix_crossing', sim%crossing)
     end if
     do m = 1, sim%nvar
       call h5_read_field(f, trim(state_names(m)), sim%lay, ids, data)

@@ -69,6 +69,7 @@ module m_simulation
     real(wp), allocatable :: lost(:, :)         !< (2, phase): debris dropped this step
     real(wp), allocatable :: fixed(:, :)        !< (2, phase): content taken out so far
     real(wp), allocatable :: open_cells(:)      !< (phase): its real cells on outflow sides
+    real(wp), allocatable :: crossing(:)        !< (phase): 1 while it crosses an open side
     real(wp) :: content0(2) = 0.0_wp   !< the solids' mass and energy at the run's start
     integer :: fix_clamped = 0         !< fixes held to a tenth of the surface content
     integer :: fix_aside = 0           !< steps with a solid on an open side: no fix
@@ -411,7 +412,9 @@ contains
     logical :: moving
     allocate(sim%bflux(2, sim%nphase, size(sim%blocks), 3), sim%content(2, sim%nphase))
     allocate(sim%lost(2, sim%nphase), sim%fixed(2, sim%nphase), sim%open_cells(sim%nphase))
+    allocate(sim%crossing(sim%nphase))
     sim%open_cells = 0.0_wp
+    sim%crossing = 0.0_wp
     sim%bflux = 0.0_wp
     sim%content = 0.0_wp
     sim%lost = 0.0_wp

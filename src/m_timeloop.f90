@@ -627,11 +627,14 @@ contains
     sim%lost = reshape(lost2, shape(sim%lost))
     ! the targets: the content at the start, moved by what crossed the domain's sides and by
     ! the debris taken out; a phase whose cells on the open (outflow) sides of the domain
-    ! changed in number is left alone, its target reset to its measure (what leaves there
-    ! cannot be told from what the update loses: the last half cell of a body leaving goes
-    ! with its level set)
+    ! have changed in number is left alone as long as it has cells there, its target reset
+    ! to its measure (what leaves there cannot be told from what the update loses: the last
+    ! half cell of a body leaving goes with its level set); a plate spanning an open side
+    ! whose edge stays put keeps its fix
     sim%content = sim%content + sim%dt * c(n_content + 1:n_content + 2, :) - sim%lost
-    open_side = abs(c(nq, :) - sim%open_cells) > 0.0_wp .and. sim%strong
+    where (abs(c(nq, :) - sim%open_cells) > 0.0_wp) sim%crossing = 1.0_wp
+    where (.not. c(nq, :) > 0.0_wp) sim%crossing = 0.0_wp
+    open_side = sim%crossing > 0.0_wp .and. sim%strong
     sim%open_cells = c(nq, :)
     if (any(open_side)) sim%fix_aside = sim%fix_aside + 1
     where (open_side) sim%content(1, :) = c(1, :)
