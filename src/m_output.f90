@@ -16,6 +16,7 @@ module m_output
   use m_deck_text, only: base_name
   use m_levelset_bodies, only: ls_region, ls_material
   use m_scene, only: cell_centre
+  use m_layout, only: cell_volume
   implicit none
   private
   public :: output_plot, output_checkpoint, output_restart, history_columns, history_values
@@ -285,28 +286,20 @@ contains
   function history_values(sim) result(v)
     type(sim_t), intent(in) :: sim
     real(wp), allocatable :: v(:)
-    real(wp) :: tot(8), vol, r, pmax, tmax, epmax
+    real(wp) :: tot(8), pmax, tmax, epmax
     real(wp), dimension(sim%lay%bsize(1)) :: rho, u, vv, w, p, e, temp, dv, msk
     integer :: sel(sim%lay%bsize(1))
     logical :: isreal(sim%lay%bsize(1))
     integer :: b, i, j, k, n, l, nb, ph, o
     real(wp), allocatable :: body(:, :)
-    real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
     n = sim%lay%bsize(1)
     tot = 0.0_wp
     pmax = -huge(1.0_wp)
     tmax = -huge(1.0_wp)
     epmax = 0.0_wp
-    vol = product(sim%lay%dx(1:sim%lay%ndim))
     do b = 1, size(sim%blocks)
       associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
-        do i = 1, n
-          dv(i) = vol
-          if (sim%lay%axisymmetric) then
-            r = sim%lay%lo(1) + (real(off(1) + i, wp) - 0.5_wp) * sim%lay%dx(1)
-            dv(i) = vol * two_pi * r
-          end if
-        end do
+        dv = [(cell_volume(sim%lay, off, i), i = 1, n)]
         do k = 1, sim%lay%bsize(3)
           do j = 1, sim%lay%bsize(2)
             call phase_select(sim, q(1:n, j, k, :), sel, isreal)
@@ -394,16 +387,14 @@ contains
     type(sim_t), intent(in) :: sim
     integer, intent(in) :: l
     real(wp) :: m(8)
-    real(wp) :: x(3), vol, dv, lo(3), hi(3), t, edge
+    real(wp) :: x(3), dv, lo(3), hi(3), t, edge
     integer :: b, i, j, k, d, c(3), iv, o
     integer :: sel(sim%lay%bsize(1))
     logical :: isreal(sim%lay%bsize(1))
     real(wp) :: least(sim%lay%bsize(1)), h, f
-    real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
     iv = sim%ils + l
     o = (sim%ls%phase(l) - 1) * sim%nflow
-    vol = product(sim%lay%dx(1:sim%lay%ndim))
     m(1:2) = 0.0_wp
     lo = huge(1.0_wp)
     hi = -huge(1.0_wp)
@@ -416,8 +407,7 @@ contains
             do i = 1, sim%lay%bsize(1)
               if (.not. q(i, j, k, iv) < 0.5_wp * h .or. sel(i) /= sim%ls%phase(l)) cycle
               x = cell_centre(sim%lay, off, i, j, k)
-              dv = vol
-              if (sim%lay%axisymmetric) dv = vol * two_pi * x(1)
+              dv = cell_volume(sim%lay, off, i)
               f = min(1.0_wp, max(0.0_wp, 0.5_wp - least(i) / h))
               m(2) = m(2) + f * dv
               m(1) = m(1) + f * dv * q(i, j, k, o + i_rho)

@@ -7,7 +7,7 @@ module m_timeloop
   use m_halo, only: halo_exchange
   use m_boundary, only: boundary_apply, boundary_walls, bc_outflow
   use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update, plastic_correction, &
-    primitive_row
+    primitive_row, rk_weights
   use m_eos, only: eos_sound_speed2
   use m_reconstruct, only: scheme_eno1
   use m_flux, only: flux_kind_llf
@@ -581,14 +581,7 @@ contains
     hi = sim%lay%bsize + sim%lay%ng
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
     width = 2.0_wp * h
-    select case (sim%cfg%rk_order)
-    case (1)
-      w = [1.0_wp, 0.0_wp, 0.0_wp]
-    case (2)
-      w = [0.5_wp, 0.5_wp, 0.0_wp]
-    case default
-      w = [1.0_wp, 1.0_wp, 4.0_wp] / 6.0_wp
-    end select
+    w = rk_weights(sim%cfg%rk_order)
     part = 0.0_wp
     do b = 1, size(sim%blocks)
       if (sim%dormant(b)) cycle
@@ -685,7 +678,8 @@ contains
     do b = 1, size(sim%blocks)
       if (sim%dormant(b)) cycle
       do p = 1, sim%nphase
-        if (.not. sim%strong(p)) cycle
+        ! a block with no surface cell of the phase has nothing to fix
+        if (.not. (sim%strong(p) .and. part(3, p, sim%blocks(b)%id) > 0.0_wp)) cycle
         off = (p - 1) * sim%nflow
         call region(b, p)
         call fix_block(sim%lay, sim%blocks(b)%q(:, :, :, off + 1:off + sim%nflow), &

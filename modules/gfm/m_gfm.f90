@@ -16,7 +16,7 @@
 !> ghosts of neighbour blocks are seen too. Kernels only: no MPI, no I/O.
 module m_gfm
   use m_kinds, only: wp, i8
-  use m_layout, only: layout_t
+  use m_layout, only: layout_t, cell_volume
   use m_eos, only: eos_t, eos_energy, eos_sound_speed2, eos_pressure
   use m_euler, only: primitive_row
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler
@@ -401,9 +401,7 @@ contains
               if (c2(1) > 0.0_wp .and. c2(1) <= huge(1.0_wp)) cycle
             end if
             counts%debris = counts%debris + 1
-            dv = product(lay%dx(1:lay%ndim))
-            if (lay%axisymmetric) dv = dv * 8.0_wp * atan(1.0_wp) &
-              * (lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1))
+            dv = cell_volume(lay, offset, i)
             if (abs(q(i, j, k, off + i_en)) <= huge(1.0_wp)) lost(:, p) = lost(:, p) &
               + dv * [q(i, j, k, off + i_rho), q(i, j, k, off + i_en)]
             qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))

@@ -3,9 +3,9 @@
 !> a ghost state, a cell that stops being real takes its content with it, and the faces
 !> between real cells and ghosts carry fluxes computed with ghost states. After each step the
 !> caller (m_timeloop) measures the mass and total energy of each solid phase over its real
-!> cells, compares them with the start of the step plus what came in through the domain's
-!> sides, and returns the difference to the phase's surface cells (real, within `width` of
-!> the surface):
+!> cells, compares them with targets (the run's start plus what came in through the domain's
+!> sides), and returns what lies beyond a band to the phase's surface cells (real, within
+!> `width` of the surface):
 !> - mass: every conserved variable of those cells is scaled by one factor, so velocity,
 !>   specific energy, deviatoric stress and plastic strain are unchanged;
 !> - energy (over all solid phases together, when nothing outside them can do work on them):
@@ -15,7 +15,7 @@
 !> Kernels on one block; no MPI, no I/O.
 module m_gfm_conserve
   use m_kinds, only: wp
-  use m_layout, only: layout_t
+  use m_layout, only: layout_t, cell_volume
   use m_state, only: i_rho, i_mx, i_mz, i_en
   implicit none
   private
@@ -25,20 +25,6 @@ module m_gfm_conserve
   integer, parameter, public :: n_content = 5
 
 contains
-
-  !> Cell volumes of a row of the block at offset (2 pi r weighted in axisymmetry).
-  pure function row_volumes(lay, offset) result(dv)
-    type(layout_t), intent(in) :: lay
-    integer, intent(in) :: offset(3)
-    real(wp) :: dv(lay%bsize(1))
-    integer :: i
-    real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
-    dv = product(lay%dx(1:lay%ndim))
-    if (.not. lay%axisymmetric) return
-    do i = 1, lay%bsize(1)
-      dv(i) = dv(i) * two_pi * (lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1))
-    end do
-  end function row_volumes
 
   !> Internal energy per volume, rho E - |rho u|^2 / (2 rho), of one cell.
   pure real(wp) function heat(qc) result(h)
@@ -64,7 +50,7 @@ contains
     real(wp), intent(out) :: c(n_content)
     real(wp) :: dv(lay%bsize(1)), f
     integer :: i, j, k, s(3)
-    dv = row_volumes(lay, offset)
+    dv = [(cell_volume(lay, offset, i), i = 1, lay%bsize(1))]
     c = 0.0_wp
     do k = 1, lay%bsize(3)
       do j = 1, lay%bsize(2)

@@ -7,6 +7,7 @@ module m_layout
   implicit none
   private
   public :: layout_t, layout_init, block_coords, block_id, block_neighbor, block_offset
+  public :: cell_volume
   public :: n_halo, no_neighbor, wall_neighbor
 
   integer, parameter :: n_halo = 4          !< halo depth in every active direction
@@ -82,6 +83,17 @@ contains
     integer :: off(3)
     off = block_coords(lay, id) * lay%bsize
   end function block_offset
+
+  !> Volume of the cells of column i of a block at offset: the product of the cell sizes, times
+  !> 2 pi r at the cell centre in axisymmetry (the measure of every total in history.csv).
+  pure real(wp) function cell_volume(lay, offset, i) result(dv)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), i
+    real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
+    dv = product(lay%dx(1:lay%ndim))
+    if (lay%axisymmetric) dv = dv * two_pi &
+      * (lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1))
+  end function cell_volume
 
   !> The block across offset dir (each -1, 0 or 1) from block id, with periodic wrap;
   !> no_neighbor at the domain boundary, wall_neighbor when that block is inactive.

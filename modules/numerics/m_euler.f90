@@ -17,11 +17,11 @@ module m_euler
   use m_plasticity, only: jaumann_source, radial_return
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid, i_sxx, i_syy, i_szz, &
     i_sxy, i_syz, i_sxz, i_epsp, i_wcold
-  use m_layout, only: layout_t
+  use m_layout, only: layout_t, cell_volume
   implicit none
   private
   public :: euler_work_t, euler_work_init, euler_rhs, euler_max_rate, rk_stage_update
-  public :: primitive_row, plastic_correction, solid_temperature
+  public :: primitive_row, plastic_correction, solid_temperature, rk_weights
 
   !> Scratch space for one block and one bundle of pencils, allocated once per run. The
   !> bundle buffers are flat and take the shape (nb, cells along the pencil, 5) of each use.
@@ -385,9 +385,7 @@ contains
       real(wp), intent(in) :: df(:)
       integer, intent(in) :: i0
       real(wp) :: dv
-      dv = product(lay%dx(1:lay%ndim))
-      if (lay%axisymmetric) dv = dv * 8.0_wp * atan(1.0_wp) &
-        * (lay%lo(1) + (real(offset(1) + i0, wp) - 0.5_wp) * lay%dx(1))
+      dv = cell_volume(lay, offset, i0)
       work%bflux(1) = work%bflux(1) + df(1) * dv
       work%bflux(2) = work%bflux(2) + df(5) * dv
     end subroutine edge
@@ -661,5 +659,20 @@ contains
     b = 1.0_wp - a
     q(1:n1, 1:n2, 1:n3, :) = a * q0 + b * (q(1:n1, 1:n2, 1:n3, :) + dt * rhs)
   end subroutine rk_stage_update
+
+  !> The weight of each stage's right-hand side in the step that rk_stage_update makes: the
+  !> step adds dt times the sum of weight(s) L(q_s) (what crossed a face in a step).
+  pure function rk_weights(order) result(w)
+    integer, intent(in) :: order
+    real(wp) :: w(3)
+    select case (order)
+    case (1)
+      w = [1.0_wp, 0.0_wp, 0.0_wp]
+    case (2)
+      w = [0.5_wp, 0.5_wp, 0.0_wp]
+    case default
+      w = [1.0_wp, 1.0_wp, 4.0_wp] / 6.0_wp
+    end select
+  end function rk_weights
 
 end module m_euler
