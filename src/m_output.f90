@@ -9,7 +9,7 @@ module m_output
   use m_euler, only: primitive_row, solid_temperature
   use m_eos, only: eos_temperature, eos_sound_speed2
   use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
-    h5_read_attr, h5_write_field, h5_read_field, h5_write_text
+    h5_read_attr, h5_write_field, h5_read_field, h5_write_text, h5_has_attr
   use m_xdmf, only: xdmf_write
   use m_comm, only: comm_sum_array, comm_max, comm_sum
   use m_errors, only: stop_collective, log_line
@@ -249,7 +249,14 @@ contains
       call h5_read_attr(f, 'fix_content0', sim%content0)
       call h5_read_attr(f, 'fix_clamped', sim%fix_clamped)
       call h5_read_attr(f, 'fix_open_cells', sim%open_cells)
-      call h5_read_attr(f, 'fix_crossing', sim%crossing)
+      ! Checkpoints from before the open-side rule lack it: no phase was crossing then.
+      sim%crossing = 0.0_wp
+      if (h5_has_attr(f, 'fix_crossing')) then
+        call h5_read_attr(f, 'fix_crossing', sim%crossing)
+      else
+        call log_line('restart: ' // trim(path) // ' has no fix_crossing (written before ' // &
+          'the open-side rule of the conservation fix): no phase taken as crossing')
+      end if
     end if
     do m = 1, sim%nvar
       call h5_read_field(f, trim(state_names(m)), sim%lay, ids, data)

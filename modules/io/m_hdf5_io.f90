@@ -32,7 +32,7 @@ module m_hdf5_io
   private
   public :: h5_file_t, h5_init, h5_finalize, h5_create, h5_open_read, h5_close
   public :: h5_write_attr, h5_read_attr, h5_write_field, h5_read_field
-  public :: h5_write_text, h5_read_text, h5_exists
+  public :: h5_write_text, h5_read_text, h5_exists, h5_has_attr
 
   character(len=*), parameter :: here = 'm_hdf5_io'
 
@@ -141,6 +141,17 @@ contains
     call require_open(f, 'h5_exists')
     found = path_exists(f, dset_path)
   end function h5_exists
+
+  !> True when the file's root carries the attribute name (for attributes that a
+  !> checkpoint of an earlier version may lack).
+  logical function h5_has_attr(f, name) result(found)
+    type(h5_file_t), intent(in) :: f
+    character(len=*), intent(in) :: name
+    integer :: err
+    call require_open(f, 'h5_has_attr')
+    call h5aexists_f(f%id, name, found, err)
+    found = found .and. err >= 0
+  end function h5_has_attr
 
   ! ---------------------------------------------------------------------------------------
   ! Fields: one global dataset per field, one hyperslab per block

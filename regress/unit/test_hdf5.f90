@@ -14,7 +14,7 @@ program test_hdf5
   use m_layout, only: layout_t, layout_init, block_offset
   use m_hdf5_io, only: h5_file_t, h5_init, h5_finalize, h5_create, h5_open_read, h5_close, &
     h5_write_attr, h5_read_attr, h5_write_field, h5_read_field, h5_write_text, &
-    h5_read_text, h5_exists
+    h5_read_text, h5_exists, h5_has_attr
   use m_xdmf, only: xdmf_write
   implicit none
 
@@ -202,6 +202,8 @@ contains
     if (.not. h5_exists(f, 'state/deep')) call fail(tag // ': state/deep not found')
     if (h5_exists(f, '/fields/none')) call fail(tag // ': /fields/none found')
     if (h5_exists(f, '/nogroup/x/y')) call fail(tag // ': /nogroup/x/y found')
+    if (.not. h5_has_attr(f, 'coeffs')) call fail(tag // ': attribute coeffs not found')
+    if (h5_has_attr(f, 'fix_crossing')) call fail(tag // ': attribute fix_crossing found')
     call h5_close(f)
 
     call comm_barrier()
