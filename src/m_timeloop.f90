@@ -4,7 +4,7 @@
 module m_timeloop
   use m_kinds, only: wp, i8, line_len
   use m_simulation, only: sim_t
-  use m_halo, only: halo_exchange
+  use m_halo, only: halo_exchange, halo_refresh
   use m_boundary, only: boundary_apply, boundary_walls, bc_outflow
   use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update, plastic_correction, &
     primitive_row, rk_weights
@@ -19,7 +19,7 @@ module m_timeloop
     comm_sum_array
   use m_errors, only: stop_collective, log_line
   use m_timers, only: timer_start, timer_stop
-  use m_gfm, only: gfm_fill, gfm_rest, gfm_drop_debris
+  use m_gfm, only: gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: n_content, content_block, fix_block
   use m_levelset_bodies, only: ls_rigid, ls_material, ls_void, ls_separate, ls_region
   use m_levelset_advect, only: levelset_advect_rhs
@@ -212,9 +212,16 @@ contains
     do stage = 1, sim%cfg%rk_order
       tstage = sim%time + stage_time(stage, sim%cfg%rk_order) * sim%dt
       call timer_start(sim%timers, 'halo')
-      call halo_exchange(sim%plan, sim%blocks, sim%nvar)
-      call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, tstage, &
-        sim%nphase)
+      if (sim%ls%n > 0) then
+        ! blocks dormant at the last ghost fill take their level sets only (ghost_fill)
+        call halo_exchange(sim%plan, sim%blocks, sim%nvar, skip=sim%dormant, keep=sim%ils + 1)
+        call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, tstage, &
+          sim%nphase, skip=sim%dormant, keep=sim%ils + 1)
+      else
+        call halo_exchange(sim%plan, sim%blocks, sim%nvar)
+        call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, tstage, &
+          sim%nphase)
+      end if
       call timer_stop(sim%timers, 'halo')
       if (sim%ls%n > 0) call ghost_fill(sim, tstage)
       call timer_start(sim%timers, 'fluxes')
@@ -395,7 +402,11 @@ contains
 
   !> The ghost-fluid stage of DESIGN section 5: rigid level sets moved to the stage time,
   !> ghost bands filled on every block (m_gfm), then a second halo exchange of the flow
-  !> variables so that each block sees its neighbours' ghosts.
+  !> variables so that each block sees its neighbours' ghosts. A dormant block (every cell,
+  !> halo included, beyond every band) is not computed, and its flow halo is not kept: both
+  !> exchanges leave it out. Before any fill, a block that was dormant and wakes (its level
+  !> sets, always exchanged, now reach into a band) takes the flow halo it missed, from
+  !> neighbours not yet filled: the result is that of exchanging every halo every time.
   subroutine ghost_fill(sim, tstage)
     type(sim_t), intent(inout) :: sim
     real(wp), intent(in) :: tstage
@@ -418,13 +429,21 @@ contains
       end do
     end do
     do b = 1, size(sim%blocks)
+      if (.not. sim%dormant(b)) cycle
+      if (gfm_dormant(sim%lay, sim%scn, sim%ls, sim%blocks(b)%q, sim%gwork)) cycle
+      call halo_refresh(sim%plan, sim%blocks, b, sim%ils, 1)
+      call boundary_apply(sim%lay, sim%bc, sim%blocks(b:b), sim%nvar, sim%nflow, tstage, &
+        sim%nphase)
+    end do
+    do b = 1, size(sim%blocks)
       call gfm_fill(sim%lay, sim%scn, sim%ls, sim%blocks(b)%q, sim%gwork, sim%gcount, &
         sim%dormant(b))
     end do
     call timer_stop(sim%timers, 'gfm')
     call timer_start(sim%timers, 'halo')
-    call halo_exchange(sim%plan, sim%blocks, sim%ils)
-    call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%ils, sim%nflow, tstage, sim%nphase)
+    call halo_exchange(sim%plan, sim%blocks, sim%ils, skip=sim%dormant)
+    call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%ils, sim%nflow, tstage, sim%nphase, &
+      skip=sim%dormant)
     call timer_stop(sim%timers, 'halo')
   end subroutine ghost_fill
 
@@ -510,7 +529,7 @@ contains
     hi = sim%lay%bsize + sim%lay%ng
     call halo_exchange(sim%plan, sim%blocks, sim%nvar, sim%ils + 1)
     call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, sim%time, &
-      sim%nphase)
+      sim%nphase, skip=sim%dormant, keep=sim%ils + 1)
     allocate(phi0(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nls, size(sim%blocks)))
     allocate(old(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
     do b = 1, size(sim%blocks)
@@ -522,7 +541,7 @@ contains
         if (it > 1 .or. stage > 1) then
           call halo_exchange(sim%plan, sim%blocks, sim%nvar, sim%ils + 1)
           call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, sim%time, &
-            sim%nphase)
+            sim%nphase, skip=sim%dormant, keep=sim%ils + 1)
         end if
         do b = 1, size(sim%blocks)
           do l = 1, nls

@@ -184,7 +184,7 @@ contains
     real(wp), intent(in) :: elapsed, loop, base
     character(len=line_len) :: line
     integer(i8) :: cs, nfall
-    real(wp) :: cells, peak, base_sum, arrays
+    real(wp) :: cells, peak, base_sum, arrays, work
     cs = comm_sum(s%cell_steps)
     nfall = comm_sum(s%fallback_faces)
     write(line, '(a,i0,a,es14.7,a,i0,a,i0,a)') 'end: step ', s%step, ', time ', s%time, &
@@ -235,6 +235,12 @@ contains
       real(cs, wp) / max(elapsed, 1.0e-9_wp) / comm_size(), ' cell-steps per second per rank'
     call log_line(line)
     write(line, '(a,es11.4,a,f10.3,a)') 'loop: ', real(cs, wp), ' cell-steps in ', loop, ' s'
+    call log_line(line)
+    ! work per rank: a rank with less waits for the others inside halo+bc
+    work = timer_total(s%timers, 'fluxes') + timer_total(s%timers, 'gfm') + &
+      timer_total(s%timers, 'reinit') + timer_total(s%timers, 'dt')
+    write(line, '(a,f10.3,a,f10.3,a)') 'balance: work per rank (fluxes, ghost fill, ' // &
+      'reinitialisation, dt) min ', comm_min(work), ' s, max ', comm_max(work), ' s'
     call log_line(line)
     cells = real(count(s%lay%active), wp) * product(s%lay%bsize)
     peak = comm_sum(memory_kb('VmHWM'))

@@ -28,7 +28,7 @@ module m_gfm
   implicit none
   private
   public :: gfm_work_t, gfm_work_init, gfm_fill, gfm_rest, gfm_counts_t, gfm_scene_t
-  public :: gfm_drop_debris
+  public :: gfm_drop_debris, gfm_dormant
   public :: probe_kind_trilinear, probe_kind_least_squares, probe_kind_auto, probe_from_name
 
   integer, parameter :: probe_kind_trilinear = 1, probe_kind_least_squares = 2
@@ -103,8 +103,9 @@ contains
     type(gfm_work_t), intent(inout) :: work
     type(gfm_counts_t), intent(inout) :: counts
     logical, intent(out) :: dormant   !< every cell, halo included, lies beyond every band
-    integer :: lo(3), hi(3), j, k, p, nflow, ils
+    integer :: lo(3), hi(3), j, k, p, m, nflow, ils
     logical :: busy(set%nphase)
+    real(wp) :: qrest(scn%nflow)
     nflow = scn%nflow
     ils = set%nphase * nflow
     lo = 1 - lay%ng
@@ -117,6 +118,17 @@ contains
       busy(p) = .not. all(work%isreal(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), p))
     end do
     dormant = all(work%bigphi > scn%band)
+    if (dormant) then
+      ! every cell beyond every band: the rest states, whatever the halo holds (a dormant
+      ! block's flow halo is not kept current, m_halo)
+      do p = 1, set%nphase
+        qrest = rest_state(scn%eos(p), nflow, scn%rest(:, p))
+        do m = 1, nflow
+          q(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), (p-1)*nflow+m) = qrest(m)
+        end do
+      end do
+      return
+    end if
     if (.not. any(busy)) return
     do p = 1, set%nphase
       call primitives(p)
@@ -147,6 +159,26 @@ contains
     end subroutine primitives
 
   end subroutine gfm_fill
+
+  !> True when every cell of the block, halo included, lies beyond the ghost band of every
+  !> phase (what gfm_fill calls dormant), from the level sets alone: q's level-set halo must
+  !> be current, its flow halo need not be.
+  logical function gfm_dormant(lay, scn, set, q, work) result(dormant)
+    type(layout_t), intent(in) :: lay
+    type(gfm_scene_t), intent(in) :: scn
+    type(ls_set_t), intent(in) :: set
+    real(wp), intent(in) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    type(gfm_work_t), intent(inout) :: work
+    integer :: p, ils
+    ils = set%nphase * scn%nflow
+    dormant = .true.
+    do p = 1, set%nphase
+      call ls_region(set, p, 1 - lay%ng, lay%bsize + lay%ng, q(:, :, :, ils+1:ils+set%n), &
+        work%bigphi(:, :, :, p), work%owner(:, :, :, p))
+      dormant = dormant .and. all(work%bigphi(:, :, :, p) > scn%band)
+      if (.not. dormant) return
+    end do
+  end function gfm_dormant
 
   !> The ghost band of phase p (work holds every phase's primitives, regions and owners).
   subroutine fill_phase(lay, scn, set, p, q, work, counts)

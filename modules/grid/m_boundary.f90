@@ -77,24 +77,37 @@ contains
 
   !> Halos of variables 1..nvar at the domain's sides; the first nphase (default 1) groups of
   !> nflow are the flow variables of each phase (the stress among them changes sign in a
-  !> mirror), the others scalars (level sets).
-  subroutine boundary_apply(lay, bc, blocks, nvar, nflow, time, nphase)
+  !> mirror), the others scalars (level sets). A block b with skip(b) set takes only
+  !> variables keep..nvar (none without keep), as in m_halo's halo_exchange: the level sets
+  !> of a dormant block.
+  subroutine boundary_apply(lay, bc, blocks, nvar, nflow, time, nphase, skip, keep)
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
     type(block_t), intent(inout) :: blocks(:)
     integer, intent(in) :: nvar, nflow
     real(wp), intent(in) :: time
     integer, intent(in), optional :: nphase
-    integer :: b, d, s, kind, np
+    logical, intent(in), optional :: skip(:)
+    integer, intent(in), optional :: keep
+    integer :: b, d, s, kind, np, m1
     real(wp) :: vwall
     np = 1
     if (present(nphase)) np = nphase
     do b = 1, size(blocks)
-      call clamp_fill(lay, blocks(b), nvar)
+      m1 = 1
+      if (present(skip)) then
+        if (skip(b)) then
+          m1 = nvar + 1
+          if (present(keep)) m1 = keep
+        end if
+      end if
+      if (m1 > nvar) cycle
+      call clamp_fill(lay, blocks(b), m1, nvar)
       do d = 1, lay%ndim
         do s = -1, 1, 2
           call side_condition(lay, bc, blocks(b)%id, d, s, time, kind, vwall)
-          if (kind /= 0) call face_fill(lay, blocks(b)%q, nvar, nflow, np, d, s, kind, vwall)
+          if (kind /= 0) call face_fill(lay, blocks(b)%q, m1, nvar, nflow, np, d, s, kind, &
+            vwall)
         end do
       end do
     end do
@@ -124,10 +137,10 @@ contains
   end subroutine boundary_walls
 
   !> Halo boxes with no source block take the value of the nearest interior cell.
-  subroutine clamp_fill(lay, blk, nvar)
+  subroutine clamp_fill(lay, blk, m1, nvar)
     type(layout_t), intent(in) :: lay
     type(block_t), intent(inout) :: blk
-    integer, intent(in) :: nvar
+    integer, intent(in) :: m1, nvar
     integer :: di, dj, dk, nbr, i, j, k, m, lo(3), hi(3), n(3), g(3), dmax(3)
     n = lay%bsize
     g = lay%ng
@@ -140,7 +153,7 @@ contains
           if (nbr > 0) cycle
           lo = merge(1 - g, merge(1, n + 1, [di, dj, dk] == 0), [di, dj, dk] < 0)
           hi = merge(0 * g, merge(n, n + g, [di, dj, dk] == 0), [di, dj, dk] < 0)
-          do m = 1, nvar
+          do m = m1, nvar
             do k = lo(3), hi(3)
               do j = lo(2), hi(2)
                 do i = lo(1), hi(1)
@@ -156,11 +169,12 @@ contains
   end subroutine clamp_fill
 
   !> One face of a block, side s (-1 low, +1 high) of direction d, over the full extent of
-  !> the other directions including their halos: halo cell n + l mirrors cell n + 1 - l
-  !> (outflow: copies cell n).
-  subroutine face_fill(lay, q, nvar, nflow, np, d, s, kind, vwall)
+  !> the other directions including their halos, variables m1..nvar: halo cell n + l
+  !> mirrors cell n + 1 - l (outflow: copies cell n). The copy reads interior cells along d
+  !> only, so it runs variable by variable; the mirror's sign changes follow per cell.
+  subroutine face_fill(lay, q, m1, nvar, nflow, np, d, s, kind, vwall)
     type(layout_t), intent(in) :: lay
-    integer, intent(in) :: nvar, nflow, np, d, s, kind
+    integer, intent(in) :: m1, nvar, nflow, np, d, s, kind
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(in) :: vwall
     integer :: lo(3), hi(3), i, j, k, m, n, src(3), imom, p, o
@@ -174,21 +188,28 @@ contains
       lo(d) = n + 1
     end if
     imom = i_mx + d - 1
-    do k = lo(3), hi(3)
-      do j = lo(2), hi(2)
-        do i = lo(1), hi(1)
-          src = [i, j, k]
-          if (kind == bc_outflow) then
-            src(d) = merge(1, n, s < 0)
-          else
-            src(d) = merge(1 - src(d), 2 * n + 1 - src(d), s < 0)
-          end if
-          do m = 1, nvar
+    do m = m1, nvar
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            src = [i, j, k]
+            if (kind == bc_outflow) then
+              src(d) = merge(1, n, s < 0)
+            else
+              src(d) = merge(1 - src(d), 2 * n + 1 - src(d), s < 0)
+            end if
             q(i, j, k, m) = q(src(1), src(2), src(3), m)
           end do
-          if (kind == bc_outflow) cycle
-          do p = 1, min(np, nvar / nflow)
-            o = (p - 1) * nflow
+        end do
+      end do
+    end do
+    if (kind == bc_outflow) return
+    do p = 1, min(np, nvar / nflow)
+      o = (p - 1) * nflow
+      if (o + 1 < m1) cycle
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
             if (nflow > n_euler) then
               ! mirror in direction d: the shear stresses S_dt change sign
               do m = 1, 3

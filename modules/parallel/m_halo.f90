@@ -12,7 +12,7 @@ module m_halo
   use m_comm, only: comm_rank, comm_exchange_t, exchange_start, exchange_wait
   implicit none
   private
-  public :: halo_plan_t, halo_plan_build, halo_exchange, halo_region
+  public :: halo_plan_t, halo_plan_build, halo_exchange, halo_refresh, halo_region
 
   !> One piece: a box of cells of a local block, and the box of its source block.
   type :: piece_t
@@ -204,13 +204,18 @@ contains
   end subroutine sort_pieces
 
   !> Fill the halos of variables first..nvar (first defaults to 1) of every block's q.
-  !> Receives are posted first, local copies run while the messages travel.
-  subroutine halo_exchange(plan, blocks, nvar, first)
+  !> Receives are posted first, local copies run while the messages travel. A block b with
+  !> skip(b) set takes only variables keep..nvar (none without keep) by local copy: the
+  !> level sets of a dormant block, whose flow halo nothing reads (halo_refresh brings it
+  !> up to date should the block wake). Messages between ranks carry every piece whole.
+  subroutine halo_exchange(plan, blocks, nvar, first, skip, keep)
     type(halo_plan_t), intent(inout) :: plan
     type(block_t), intent(inout) :: blocks(:)
     integer, intent(in) :: nvar
     integer, intent(in), optional :: first
-    integer :: r, k, m, pos, i, j, kk, c, m1, nv
+    logical, intent(in), optional :: skip(:)
+    integer, intent(in), optional :: keep
+    integer :: r, k, m, pos, i, j, kk, c, m1, nv, mc
     integer, allocatable :: scount(:), rcount(:), ranks(:)
     type(piece_t) :: pc
     m1 = 1
@@ -246,13 +251,14 @@ contains
     if (plan%npartner > 0) call exchange_start(plan%ex, ranks, plan%sendbuf, scount, &
       plan%recvbuf, rcount)
     do c = 1, plan%ncopy
-      pc = plan%copy(c)
-      if (pc%local == pc%src_local) then
-        call copy_within(plan%ng, blocks(pc%local)%q, pc%lo, pc%hi, pc%slo, m1, nvar)
-      else
-        call copy_box(plan%ng, blocks(pc%local)%q, blocks(pc%src_local)%q, pc%lo, pc%hi, &
-          pc%slo, m1, nvar)
+      mc = m1
+      if (present(skip)) then
+        if (skip(plan%copy(c)%local)) then
+          mc = nvar + 1
+          if (present(keep)) mc = max(m1, keep)
+        end if
       end if
+      if (mc <= nvar) call copy_piece(plan, blocks, plan%copy(c), mc, nvar)
     end do
     if (plan%npartner > 0) call exchange_wait(plan%ex)
     do r = 1, plan%npartner
@@ -272,6 +278,32 @@ contains
       end do
     end do
   end subroutine halo_exchange
+
+  !> The local copies into block b alone, variables first..nvar: the halo that a call of
+  !> halo_exchange with skip(b) left out, from the same (unchanged) neighbours. Pieces from
+  !> other ranks were unpacked whole by that call.
+  subroutine halo_refresh(plan, blocks, b, nvar, first)
+    type(halo_plan_t), intent(in) :: plan
+    type(block_t), intent(inout) :: blocks(:)
+    integer, intent(in) :: b, nvar, first
+    integer :: c
+    do c = 1, plan%ncopy
+      if (plan%copy(c)%local == b) call copy_piece(plan, blocks, plan%copy(c), first, nvar)
+    end do
+  end subroutine halo_refresh
+
+  subroutine copy_piece(plan, blocks, pc, m1, nvar)
+    type(halo_plan_t), intent(in) :: plan
+    type(block_t), intent(inout) :: blocks(:)
+    type(piece_t), intent(in) :: pc
+    integer, intent(in) :: m1, nvar
+    if (pc%local == pc%src_local) then
+      call copy_within(plan%ng, blocks(pc%local)%q, pc%lo, pc%hi, pc%slo, m1, nvar)
+    else
+      call copy_box(plan%ng, blocks(pc%local)%q, blocks(pc%src_local)%q, pc%lo, pc%hi, &
+        pc%slo, m1, nvar)
+    end if
+  end subroutine copy_piece
 
   !> dst(box lo..hi) = src(box starting at slo), two distinct blocks: explicit loops, so that
   !> no temporary is made for a possible overlap of the two sections.
