@@ -2,12 +2,15 @@
 !> several blocks per rank, periodic and non-periodic directions and an inactive block, every
 !> interior cell holds a code of its global index; after one exchange every halo cell whose
 !> source cell exists (through a neighbour block, with periodic wrap) must hold the code of
-!> that source cell, for every variable.
+!> that source cell, for every variable. A second exchange of new values skips every other
+!> block for variables 1-2 (halo_exchange's skip and keep): those keep the old values where
+!> the source block is on this rank, take the new ones from other ranks and in variable 3;
+!> halo_refresh then brings the skipped blocks up to date.
 program test_halo
   use m_kinds, only: wp
   use m_layout, only: layout_t, layout_init, block_neighbor
   use m_blocks, only: block_t, blocks_allocate
-  use m_halo, only: halo_plan_t, halo_plan_build, halo_exchange
+  use m_halo, only: halo_plan_t, halo_plan_build, halo_exchange, halo_refresh
   use m_partition, only: partition_blocks
   use m_comm, only: comm_init, comm_exit, comm_rank, comm_size, comm_sum
   use m_kinds, only: i8
@@ -40,7 +43,8 @@ contains
     type(block_t), allocatable :: blocks(:)
     type(halo_plan_t) :: plan
     integer, allocatable :: work(:)
-    integer :: b, i, j, k, m, g(3), dir(3), nbr, d, checked
+    logical, allocatable :: skip(:)
+    integer :: b
     real(wp), parameter :: lo(3) = 0.0_wp, hi(3) = 1.0_wp
     call layout_init(lay, ndim, cells, bsize, lo, hi, periodic, .false.)
     if (hole > 0) lay%active(hole) = .false.
@@ -51,17 +55,50 @@ contains
     call halo_plan_build(lay, blocks, plan)
     do b = 1, size(blocks)
       blocks(b)%q = -1.0_wp
+    end do
+    call fill_interior(lay, blocks, 0.0_wp)
+    call halo_exchange(plan, blocks, 3)
+    allocate(skip(size(blocks)))
+    skip = .false.
+    call check_halos(lay, blocks, skip, 0.0_wp)
+    skip = [(mod(b, 2) == 1, b = 1, size(blocks))]
+    call fill_interior(lay, blocks, 0.5_wp)
+    call halo_exchange(plan, blocks, 3, skip=skip, keep=3)
+    call check_halos(lay, blocks, skip, 0.5_wp)
+    do b = 1, size(blocks)
+      if (skip(b)) call halo_refresh(plan, blocks, b, 2, 1)
+    end do
+    skip = .false.
+    call check_halos(lay, blocks, skip, 0.5_wp)
+  end subroutine run_case
+
+  subroutine fill_interior(lay, blocks, shift)
+    type(layout_t), intent(in) :: lay
+    type(block_t), intent(inout) :: blocks(:)
+    real(wp), intent(in) :: shift
+    integer :: b, i, j, k, m
+    do b = 1, size(blocks)
       do m = 1, 3
         do k = 1, lay%bsize(3)
           do j = 1, lay%bsize(2)
             do i = 1, lay%bsize(1)
-              blocks(b)%q(i, j, k, m) = code(blocks(b)%offset + [i, j, k], m)
+              blocks(b)%q(i, j, k, m) = code(blocks(b)%offset + [i, j, k], m) + shift
             end do
           end do
         end do
       end do
     end do
-    call halo_exchange(plan, blocks, 3)
+  end subroutine fill_interior
+
+    ! every halo cell with a source block holds its source's code plus shift, except in a
+    ! skipped block, variables 1-2, from a block of this rank: the code of before (shift 0)
+  subroutine check_halos(lay, blocks, skip, shift)
+    type(layout_t), intent(in) :: lay
+    type(block_t), intent(in) :: blocks(:)
+    logical, intent(in) :: skip(:)
+    real(wp), intent(in) :: shift
+    integer :: b, i, j, k, m, g(3), dir(3), nbr, d, checked
+    real(wp) :: expect
     checked = 0
     do b = 1, size(blocks)
       do k = 1 - lay%ng(3), lay%bsize(3) + lay%ng(3)
@@ -82,10 +119,12 @@ contains
             end do
             do m = 1, 3
               checked = checked + 1
-              if (abs(blocks(b)%q(i, j, k, m) - code(g, m)) > 0.0_wp) then
-                if (nbad < 5) write(6, '(a,i0,a,3i4,a,i0,a,2es14.6)') 'rank ', comm_rank(), &
-                  ' halo cell ', i, j, k, ' of block ', blocks(b)%id, ': got/expected ', &
-                  blocks(b)%q(i, j, k, m), code(g, m)
+              expect = code(g, m) + shift
+              if (skip(b) .and. m < 3 .and. lay%owner(nbr) == comm_rank()) expect = code(g, m)
+              if (abs(blocks(b)%q(i, j, k, m) - expect) > 0.0_wp) then
+                if (nbad < 5) write(6, '(a,i0,a,3i4,a,i0,a,2es14.6)') 'rank ', &
+                  comm_rank(), ' halo cell ', i, j, k, ' of block ', blocks(b)%id, &
+                  ': got/expected ', blocks(b)%q(i, j, k, m), expect
                 nbad = nbad + 1
               end if
             end do
@@ -94,6 +133,6 @@ contains
       end do
     end do
     if (comm_sum(int(checked, i8)) == 0) nbad = nbad + 1
-  end subroutine run_case
+  end subroutine check_halos
 
 end program test_halo
