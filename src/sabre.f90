@@ -108,6 +108,7 @@ contains
     write(line, '(a,a,a,a,a,i0,a,f5.3)') 'numerics: scheme ', trim(s%cfg%scheme), ', flux ', &
       trim(s%cfg%flux), ', rk_order ', s%cfg%rk_order, ', cfl ', s%cfg%cfl
     call log_line(line)
+    call log_line('numerics: ' // trim(s%cfg%numerics_note))
     if (s%has_strength) call log_line('numerics: flux of eps_p and w_c ' // &
       trim(s%cfg%scalar_flux))
     if (s%has_strength .and. s%ls%n > 0) call log_line('numerics: S, eps_p, w_c across ' // &

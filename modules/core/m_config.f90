@@ -4,7 +4,7 @@
 !> body defaults) before the driver sees the configuration, so after m_deck returns no
 !> field holds `unset` unless it is documented as optional.
 module m_config
-  use m_kinds, only: wp, name_len, path_len
+  use m_kinds, only: wp, name_len, path_len, line_len
   implicit none
   private
   public :: config_t, material_t, body_t, unset, is_set, material_index
@@ -95,9 +95,12 @@ module m_config
     real(wp) :: bc_rise_time = 0.0_wp        !< linear ramp of bc_velocity from t = 0
     character(len=name_len) :: base_material = ''
     ! &numerics
-    character(len=name_len) :: scheme = 'eno3'
-    character(len=name_len) :: flux = 'llf'
-    character(len=name_len) :: scalar_flux = 'llf'      !< solids: flux of rho eps_p, rho w_c
+    ! scheme, flux and scalar_flux left empty are chosen for the scene once its effects are
+    ! resolved (m_numerics_defaults; numerics_note says what and why)
+    character(len=name_len) :: scheme = ''
+    character(len=name_len) :: flux = ''
+    character(len=name_len) :: scalar_flux = ''      !< solids: flux of rho eps_p, rho w_c
+    character(len=line_len) :: numerics_note = ''
     !> solids with level sets: S, eps_p, w_c across a surface face ('material' | 'llf')
     character(len=name_len) :: surface_flux = 'material'
     !> solids with level sets: what the conservation fix returns ('mass_energy' | 'mass' |

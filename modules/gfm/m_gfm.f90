@@ -19,7 +19,7 @@ module m_gfm
   use m_layout, only: layout_t, cell_volume
   use m_eos, only: eos_t, eos_energy, eos_sound_speed2, eos_pressure
   use m_euler, only: primitive_row
-  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler
+  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, i_epsp
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_material
   use m_gfm_probe, only: probe_trilinear, probe_least_squares
   use m_gfm_mvi, only: gfm_mvi
@@ -277,7 +277,7 @@ contains
           return
         end if
       end if
-      call probe_least_squares(nd, lo, hi, w, isreal, sp, val, npts)
+      call probe_least_squares(nd, lo, hi, w, isreal, sp, val, npts, bounded_from=i_epsp)
       if (npts > 0) counts%least_squares = counts%least_squares + 1
       if (npts < 0) counts%mean = counts%mean + 1
       found = npts /= 0
@@ -324,7 +324,7 @@ contains
         return
       end if
       call probe_least_squares(nd, lo, hi, work%w(:, :, :, :, pp), work%isreal(:, :, :, pp), &
-        real([i, j, k], wp), wk, n)
+        real([i, j, k], wp), wk, n, bounded_from=i_epsp)
       found = n /= 0
     end function partner_state
 

@@ -9,7 +9,10 @@
 !>   distance in cells), over the real cells among the 3^ndim nearest, or the 5^ndim nearest
 !>   where those do not determine the fit; with fewer than ndim + 1 such cells (or a
 !>   singular fit) the mean of the real cells within two cells (npts < 0 then: minus their
-!>   number); npts = 0 when there is none.
+!>   number); npts = 0 when there is none. Variables bounded_from .. (optional; plastic
+!>   strain, stored work) are kept within the range of the real cells of the fit: a linear
+!>   fit extrapolates, and a ghost that turns real would start outside that range (a
+!>   negative plastic strain at the foot of the Taylor bar).
 !> Kernels only.
 module m_gfm_probe
   use m_kinds, only: wp
@@ -49,16 +52,20 @@ contains
     end do
   end subroutine probe_trilinear
 
-  subroutine probe_least_squares(ndim, lo, hi, w, isreal, s, val, npts)
+  subroutine probe_least_squares(ndim, lo, hi, w, isreal, s, val, npts, bounded_from)
     integer, intent(in) :: ndim, lo(3), hi(3)
     real(wp), intent(in) :: w(lo(1):, lo(2):, lo(3):, :)
     logical, intent(in) :: isreal(lo(1):, lo(2):, lo(3):)
     real(wp), intent(in) :: s(3)
     real(wp), intent(out) :: val(:)
     integer, intent(out) :: npts
+    integer, intent(in), optional :: bounded_from
     real(wp) :: a(4, 4), rhs(4, size(val)), row(4), wt, wsum(size(val))
-    integer :: ic(3), c(3), m, i, j, k, reach(3), r
+    real(wp) :: wmin(size(val)), wmax(size(val))
+    integer :: ic(3), c(3), m, i, j, k, reach(3), r, nb
     logical :: ok
+    nb = size(val) + 1
+    if (present(bounded_from)) nb = bounded_from
     m = ndim + 1
     ic = 1
     ic(1:ndim) = min(max(nint(s(1:ndim)), lo(1:ndim)), hi(1:ndim))
@@ -70,6 +77,8 @@ contains
       a = 0.0_wp
       rhs = 0.0_wp
       wsum = 0.0_wp
+      wmin = huge(1.0_wp)
+      wmax = -huge(1.0_wp)
       npts = 0
       do k = ic(3) - reach(3), ic(3) + reach(3)
         do j = ic(2) - reach(2), ic(2) + reach(2)
@@ -85,6 +94,8 @@ contains
             rhs(1:m, :) = rhs(1:m, :) + wt * spread(row(1:m), 2, size(val)) &
               * spread(w(i, j, k, :), 1, m)
             wsum = wsum + w(i, j, k, :)
+            wmin = min(wmin, w(i, j, k, :))
+            wmax = max(wmax, w(i, j, k, :))
           end do
         end do
       end do
@@ -92,6 +103,7 @@ contains
         call solve_small(m, a, rhs, ok)
         if (ok) then
           val = rhs(1, :)
+          if (nb <= size(val)) val(nb:) = min(max(val(nb:), wmin(nb:)), wmax(nb:))
           return
         end if
       end if

@@ -17,6 +17,7 @@ module m_deck_check
   use m_deck_text, only: int_text, real_text, in_list
   use m_deck_parse, only: deck_group_t
   use m_deck_schema, only: fail, bad
+  use m_numerics_defaults, only: numerics_defaults
   implicit none
   private
   public :: deck_check
@@ -69,6 +70,7 @@ contains
     call check_materials(base, cfg)
     call check_physics(base, groups, n_groups, cfg)
     call check_bodies(base, cfg)
+    call numerics_defaults(cfg, cfg%numerics_note)
   end subroutine deck_check
 
   subroutine check_run(base, groups, n_groups, cfg)
@@ -189,9 +191,12 @@ contains
   subroutine check_numerics(base, cfg)
     character(len=*), intent(in) :: base
     type(config_t), intent(in) :: cfg
-    call check_choice(base, 'numerics', 'scheme', cfg%scheme, schemes)
-    call check_choice(base, 'numerics', 'flux', cfg%flux, fluxes)
-    call check_choice(base, 'numerics', 'scalar_flux', cfg%scalar_flux, scalar_fluxes)
+    ! an empty choice is left to m_numerics_defaults
+    if (len_trim(cfg%scheme) > 0) call check_choice(base, 'numerics', 'scheme', cfg%scheme, &
+      schemes)
+    if (len_trim(cfg%flux) > 0) call check_choice(base, 'numerics', 'flux', cfg%flux, fluxes)
+    if (len_trim(cfg%scalar_flux) > 0) call check_choice(base, 'numerics', 'scalar_flux', &
+      cfg%scalar_flux, scalar_fluxes)
     call check_choice(base, 'numerics', 'surface_flux', cfg%surface_flux, surface_fluxes)
     call check_choice(base, 'numerics', 'conserve', cfg%conserve, conserves)
     if (cfg%rk_order < 1 .or. cfg%rk_order > 3) call bad(base, 'numerics', 'rk_order', &
@@ -458,7 +463,15 @@ contains
           // '(leave thermal out: it is on exactly when a material needs it)')
       end if
     end if
-    if (cfg%strength) return
+    if (cfg%strength) then
+      ! the default fields of a scene with strength show its plastic strain and stress too
+      if (.not. given(groups, n_groups, 'output', 'fields')) then
+        cfg%fields(cfg%n_fields + 1:cfg%n_fields + 2) = [character(len=name_len) :: &
+          'eps_p', 'seq']
+        cfg%n_fields = cfg%n_fields + 2
+      end if
+      return
+    end if
     do k = 1, cfg%n_fields
       if (in_list(cfg%fields(k), strength_fields)) call bad(base, 'output', 'fields', &
         "field '" // trim(cfg%fields(k)) // "' needs strength, which is off (no material " &

@@ -412,7 +412,9 @@ contains
     logical, intent(inout) :: failed
     integer :: i, b, nf
     nf = nb * (n + 1)
-    call reconstruct_faces(scheme, nb, n, g, nv, pw, wl, wr)
+    ! eps_p and w_c (pencil places i_epsp .. nv) keep face values within their neighbours'
+    ! range, so that their upwind transport stays within it (m_reconstruct's bound_faces)
+    call reconstruct_faces(scheme, nb, n, g, nv, pw, wl, wr, bounded_from=i_epsp)
     if (any(low)) then
       do i = 0, n
         do b = 1, nb

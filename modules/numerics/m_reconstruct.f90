@@ -3,15 +3,22 @@
 !> stencil chosen by the smallest undivided differences) and WENO5 (Jiang and Shu 1996,
 !> eps = 1e-6). For every cell i of 0 .. n + 1 the cell's own polynomial gives the value at
 !> its left face (vm) and right face (vp); face i + 1/2 then has left state vp(i) and right
-!> state vm(i + 1). Kernels only: arrays in, arrays out, no state.
+!> state vm(i + 1). Variables that must stay within the range of their neighbours (plastic
+!> strain, stored work: bounded_from .. nv) have their face values limited (bound_faces,
+!> manual/theory.md 5.1e). Kernels only: arrays in, arrays out, no state.
 module m_reconstruct
   use m_kinds, only: wp
   implicit none
   private
   public :: scheme_eno1, scheme_eno2, scheme_eno3, scheme_weno5, scheme_from_name
-  public :: reconstruct_faces
+  public :: reconstruct_faces, bound_faces, bound_weight
 
   integer, parameter :: scheme_eno1 = 1, scheme_eno2 = 2, scheme_eno3 = 3, scheme_weno5 = 5
+  !> the share of a cell's content given to each face value in the convex decomposition of
+  !> bound_faces (the 3-point Gauss-Lobatto weight): under the condition that no face lets
+  !> out more than bound_weight / ndim of a cell's mass in one stage, the upwind update of a
+  !> bounded variable is a convex combination of values within its neighbours' range
+  real(wp), parameter :: bound_weight = 1.0_wp / 6.0_wp
 
 contains
 
@@ -32,13 +39,16 @@ contains
   !> Face states of nv variables on nb pencils of n cells with ng >= 3 halo cells, the pencil
   !> index innermost so that the loops vectorise across pencils:
   !> v(nb, 1-ng:n+ng, nv) cell averages -> left(nb, 0:n, nv), right(nb, 0:n, nv) at faces
-  !> 1/2 .. n+1/2.
-  subroutine reconstruct_faces(scheme, nb, n, ng, nv, v, left, right)
+  !> 1/2 .. n+1/2. Variables bounded_from .. nv (optional) are bounded (bound_faces).
+  subroutine reconstruct_faces(scheme, nb, n, ng, nv, v, left, right, bounded_from)
     integer, intent(in) :: scheme, nb, n, ng, nv
     real(wp), intent(in) :: v(nb, 1-ng:n+ng, nv)
     real(wp), intent(out) :: left(nb, 0:n, nv), right(nb, 0:n, nv)
+    integer, intent(in), optional :: bounded_from
     real(wp) :: vm(nb, 0:n+1), vp(nb, 0:n+1)
-    integer :: m
+    integer :: m, first_bounded
+    first_bounded = nv + 1
+    if (present(bounded_from)) first_bounded = bounded_from
     do m = 1, nv
       select case (scheme)
       case (scheme_eno1)
@@ -51,10 +61,45 @@ contains
       case default
         call eno3(nb, n, ng, v(:, :, m), vm, vp)
       end select
+      if (m >= first_bounded .and. scheme /= scheme_eno1) &
+        call bound_faces(nb, n, ng, v(:, :, m), vm, vp)
       left(:, :, m) = vp(:, 0:n)
       right(:, :, m) = vm(:, 1:n+1)
     end do
   end subroutine reconstruct_faces
+
+  !> Limit the face values vm(i), vp(i) of each cell i = 0 .. n + 1 towards the cell value
+  !> v(i) (Zhang and Shu 2010, manual/theory.md 5.1e) so that the face values and the rest
+  !> v* = (v - w (vm + vp)) / (1 - 2 w) of the decomposition v = w vm + w vp + (1 - 2 w) v*
+  !> (w = bound_weight) all lie within [m, M], the range of v over i - 1, i, i + 1. The
+  !> scaling theta is the largest in [0, 1] that does it: 1 where the reconstruction already
+  !> stays in range (smooth monotone data), 0 at a cell that is itself a local extremum.
+  !> Uniform data stay uniform; a variable >= 0 keeps face values >= 0.
+  subroutine bound_faces(nb, n, ng, v, vm, vp)
+    integer, intent(in) :: nb, n, ng
+    real(wp), intent(in) :: v(nb, 1-ng:n+ng)
+    real(wp), intent(inout) :: vm(nb, 0:n+1), vp(nb, 0:n+1)
+    real(wp), parameter :: w = bound_weight
+    real(wp) :: lo, hi, vc, vs, theta, dmax, dmin
+    integer :: i, b
+    do i = 0, n + 1
+      do b = 1, nb
+        vc = v(b, i)
+        lo = min(v(b, i-1), vc, v(b, i+1))
+        hi = max(v(b, i-1), vc, v(b, i+1))
+        vs = (vc - w * (vm(b, i) + vp(b, i))) / (1.0_wp - 2.0_wp * w)
+        ! the largest deviations from vc above and below among vm, vp, v*
+        dmax = max(vm(b, i), vp(b, i), vs) - vc
+        dmin = vc - min(vm(b, i), vp(b, i), vs)
+        theta = 1.0_wp
+        if (dmax > hi - vc) theta = min(theta, (hi - vc) / dmax)
+        if (dmin > vc - lo) theta = min(theta, (vc - lo) / dmin)
+        theta = max(theta, 0.0_wp)
+        vm(b, i) = vc + theta * (vm(b, i) - vc)
+        vp(b, i) = vc + theta * (vp(b, i) - vc)
+      end do
+    end do
+  end subroutine bound_faces
 
   !> ENO2: the smaller of the two one-sided slopes (no limiting to zero at extrema); on a tie
   !> their mean, so that the choice is mirror-symmetric.
