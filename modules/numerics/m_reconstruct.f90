@@ -95,8 +95,9 @@ contains
         if (dmax > hi - vc) theta = min(theta, (hi - vc) / dmax)
         if (dmin > vc - lo) theta = min(theta, (vc - lo) / dmin)
         theta = max(theta, 0.0_wp)
-        vm(b, i) = vc + theta * (vm(b, i) - vc)
-        vp(b, i) = vc + theta * (vp(b, i) - vc)
+        ! the scaled values in [lo, hi] to the last bit (rounding of vc + theta (v - vc))
+        vm(b, i) = min(max(vc + theta * (vm(b, i) - vc), lo), hi)
+        vp(b, i) = min(max(vc + theta * (vp(b, i) - vc), lo), hi)
       end do
     end do
   end subroutine bound_faces
