@@ -1,13 +1,18 @@
 !> The XDMF 3 companion of a plot file (DESIGN section 7): a small XML file, written by rank 0
 !> beside plot_NNNNNN.h5, that lets ParaView and VisIt open the global fields directly. The
-!> mesh is a 3DCoRectMesh (uniform, axis-aligned) of cells(3)+1 x cells(2)+1 x cells(1)+1
-!> nodes; XDMF lists dimensions slowest first, and the ORIGIN_DXDYDZ geometry lists origin and
-!> spacing in the same z, y, x order (readers reverse both to get x, y, z). Each field is a
-!> cell-centred scalar pointing at h5_name:/fields/<name>, a float64 dataset that C and h5py
-!> see as (nz, ny, nx). 1D and 2D runs give a mesh one cell thick in the unused directions.
+!> mesh is a 3DCoRectMesh (uniform, axis-aligned); XDMF lists dimensions slowest first, and
+!> the ORIGIN_DXDYDZ geometry lists origin and spacing in the same z, y, x order (readers
+!> reverse both to get x, y, z). Each field is a cell-centred scalar pointing at
+!> h5_name:/fields/<name>, a float64 dataset that C and h5py see as (nz, ny, nx).
+!> A 2D (or axisymmetric) run is written as 2D and a 1D run as 1D: the unused directions
+!> have one node (a zero-thickness extent at 0) instead of a slab one cell of the deck's
+!> unused extent thick, so a viewer frames the grid itself. XDMF's own 2DCoRectMesh is not
+!> used because VTK's XDMF readers place it in the y-z plane. The unused spacing is dx(1),
+!> never read for bounds but kept non-zero for the filters that divide by it. Numbers are
+!> written in the fewest digits that read back to the same double ("clean" spacings).
 !> This module writes only XML: the HDF5 side is m_hdf5_io's.
 module m_xdmf
-  use m_kinds, only: wp
+  use m_kinds, only: wp, i8
   use m_layout, only: layout_t
   use m_comm, only: comm_is_root
   use m_errors, only: fatal
@@ -25,9 +30,11 @@ contains
     character(len=*), intent(in) :: names(:)
     real(wp), intent(in) :: time
     character(len=:), allocatable :: cell_dims, node_dims
-    integer :: u, ios, n
+    integer :: u, ios, n, nodes(3)
+    real(wp) :: origin(3), spacing(3)
     if (.not. comm_is_root()) return
-    node_dims = dims_text(lay%cells(3:1:-1) + 1)
+    call mesh_nodes(lay, nodes, origin, spacing)
+    node_dims = dims_text(nodes(3:1:-1))
     cell_dims = dims_text(lay%cells(3:1:-1))
     open(newunit=u, file=trim(xmf_path), status='replace', action='write', iostat=ios)
     if (ios /= 0) call fatal('m_xdmf', 'cannot write ' // trim(xmf_path) // &
@@ -43,13 +50,13 @@ contains
     write(u, '(a)') '      <Geometry GeometryType="ORIGIN_DXDYDZ">'
     write(u, '(a)') '        <DataItem Name="Origin" Dimensions="3" NumberType="Float" ' // &
       'Precision="8" Format="XML">'
-    write(u, '(a)') '          ' // real_text(lay%lo(3)) // ' ' // real_text(lay%lo(2)) // &
-      ' ' // real_text(lay%lo(1))
+    write(u, '(a)') '          ' // real_text(origin(3)) // ' ' // real_text(origin(2)) // &
+      ' ' // real_text(origin(1))
     write(u, '(a)') '        </DataItem>'
     write(u, '(a)') '        <DataItem Name="Spacing" Dimensions="3" NumberType="Float" ' // &
       'Precision="8" Format="XML">'
-    write(u, '(a)') '          ' // real_text(lay%dx(3)) // ' ' // real_text(lay%dx(2)) // &
-      ' ' // real_text(lay%dx(1))
+    write(u, '(a)') '          ' // real_text(spacing(3)) // ' ' // real_text(spacing(2)) // &
+      ' ' // real_text(spacing(1))
     write(u, '(a)') '        </DataItem>'
     write(u, '(a)') '      </Geometry>'
     do n = 1, size(names)
@@ -70,12 +77,36 @@ contains
     close(u)
   end subroutine xdmf_write
 
-  !> A real with every bit of precision, so the mesh sits exactly where the solver's is.
+  !> Nodes, origin and spacing of the mesh along x, y, z: cells + 1 nodes along the run's
+  !> ndim directions, one node at 0 with spacing dx(1) along the others.
+  pure subroutine mesh_nodes(lay, nodes, origin, spacing)
+    type(layout_t), intent(in) :: lay
+    integer, intent(out) :: nodes(3)
+    real(wp), intent(out) :: origin(3), spacing(3)
+    nodes = 1
+    origin = 0.0_wp
+    spacing = lay%dx(1)
+    nodes(1:lay%ndim) = lay%cells(1:lay%ndim) + 1
+    origin(1:lay%ndim) = lay%lo(1:lay%ndim)
+    spacing(1:lay%ndim) = lay%dx(1:lay%ndim)
+  end subroutine mesh_nodes
+
+  !> A real in the fewest significant digits (2 to 17) that read back to the same double, so
+  !> the mesh sits exactly where the solver's is and 0.15 mm reads 1.5E-004, not
+  !> 1.4999999999999999E-004.
   pure function real_text(x) result(s)
     real(wp), intent(in) :: x
     character(len=:), allocatable :: s
     character(len=32) :: buf
-    write(buf, '(es24.16e3)') x
+    character(len=16) :: fmt
+    real(wp) :: back
+    integer :: digits, ios
+    do digits = 2, 17
+      write(fmt, '("(es",i0,".",i0,"e3)")') digits + 8, digits - 1
+      write(buf, fmt) x
+      read(buf, *, iostat=ios) back
+      if (ios == 0 .and. transfer(back, 0_i8) == transfer(x, 0_i8)) exit
+    end do
     s = trim(adjustl(buf))
   end function real_text
 

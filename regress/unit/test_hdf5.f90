@@ -5,6 +5,7 @@
 !> value bit for bit, that inactive blocks read back as 0, that attributes and the text
 !> dataset round-trip with rank 0's value, and the root grid attributes. In the 3D case the
 !> last rank holds no block when writing, so the collective calls are exercised with nloc = 0.
+!> The .xmf companion's mesh is checked too (1D and 2D flat along their unused directions).
 !> Prints PASS test_hdf5 or FAIL ... and exits non-zero on failure. With --keep the files
 !> (test_hdf5_{1d,2d,3d}.h5 and .xmf in the working folder) are kept for inspection.
 program test_hdf5
@@ -145,6 +146,7 @@ contains
     call h5_write_text(f, '/input/blank', '')
     call h5_close(f)
     call xdmf_write('test_hdf5_' // tag // '.xmf', path, lay, ['rho', 'p  '], time)
+    if (comm_is_root()) call check_xdmf(tag)
 
     ! Read back into the blocks of another owner assignment: active blocks in contiguous
     ! chunks, in reverse rank order; rank 0 also asks for the inactive blocks.
@@ -256,6 +258,52 @@ contains
       end do
     end do
   end subroutine check_known
+
+  !> The mesh of the .xmf: nodes, origin and spacing in z, y, x order, a 2D (1D) layout flat
+  !> (one node, at 0, spacing dx(1)) along its unused directions, numbers in the fewest
+  !> digits that read back (m_xdmf).
+  subroutine check_xdmf(tag)
+    character(len=*), intent(in) :: tag
+    character(len=:), allocatable :: nodes, origin, spacing
+    character(len=256) :: line, prev
+    integer :: u, ios, found
+    select case (tag)
+    case ('1d')
+      nodes = '1 1 65'
+      origin = '0.0E+000 0.0E+000 -1.0E+000'
+      spacing = '4.6875E-002 4.6875E-002 4.6875E-002'
+    case ('2d')
+      nodes = '1 17 25'
+      origin = '0.0E+000 2.5E-001 -1.0E+000'
+      spacing = '1.25E-001 7.8125E-002 1.25E-001'
+    case default
+      nodes = '17 9 13'
+      origin = '3.0E+000 2.5E-001 -1.0E+000'
+      spacing = '6.25E-002 1.5625E-001 2.5E-001'
+    end select
+    open(newunit=u, file='test_hdf5_' // tag // '.xmf', status='old', action='read', &
+      iostat=ios)
+    if (ios /= 0) then
+      call fail(tag // ': cannot read test_hdf5_' // tag // '.xmf')
+      return
+    end if
+    found = 0
+    prev = ''
+    do
+      read(u, '(a)', iostat=ios) line
+      if (ios /= 0) exit
+      if (index(line, 'TopologyType="3DCoRectMesh" Dimensions="' // nodes // '"') > 0) &
+        found = found + 1
+      if (index(prev, 'Name="Origin"') > 0 .and. trim(adjustl(line)) == origin) &
+        found = found + 1
+      if (index(prev, 'Name="Spacing"') > 0 .and. trim(adjustl(line)) == spacing) &
+        found = found + 1
+      prev = line
+    end do
+    close(u)
+    if (found /= 3) call fail(tag // ': .xmf mesh is not nodes "' // nodes // &
+      '", origin "' // origin // '", spacing "' // spacing // '"')
+  end subroutine check_xdmf
 
   subroutine delete_file(path)
     character(len=*), intent(in) :: path
