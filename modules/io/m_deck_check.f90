@@ -6,9 +6,11 @@
 !> eps_rate0 (1 /s) to their usual values where its model uses them; the &physics switches
 !> strength and thermal, when the deck leaves them out, are on exactly when a material in
 !> use needs them (manual/materials.md). Every value is checked against its range or its
-!> list of choices, and the first violation stops every rank with one line naming group,
-!> variable and a typical value. It does not read the deck (m_deck) and does not interpret
-!> the physics: what a material or a shape means is for eos/, strength/ and scene/.
+!> list of choices, and each violation is recorded as one line naming group, variable and a
+!> typical value (m_deck_schema); checks that would only repeat an error already found (the
+!> values an unknown eos needs, the cells of an unknown ndim) are left out. It does not
+!> read the deck (m_deck) and does not interpret the physics: what a material or a shape
+!> means is for eos/, strength/ and scene/.
 module m_deck_check
   use m_kinds, only: wp, name_len
   use m_config, only: config_t, material_t, is_set, max_materials, max_fields, material_index
@@ -16,7 +18,7 @@ module m_deck_check
   use m_yield, only: strength_problem, strength_from_material
   use m_deck_text, only: int_text, real_text, in_list
   use m_deck_parse, only: deck_group_t
-  use m_deck_schema, only: fail, bad
+  use m_deck_schema, only: fail, bad, deck_error_count, deck_has_error, deck_error_mark
   implicit none
   private
   public :: deck_check
@@ -56,7 +58,7 @@ module m_deck_check
 contains
 
   !> Resolve and check cfg as read from groups; the checks run in a fixed order, so the
-  !> error reported is always the first one found in that order. Collective.
+  !> errors are always reported in that order.
   subroutine deck_check(base, groups, n_groups, cfg)
     character(len=*), intent(in) :: base
     type(deck_group_t), intent(in) :: groups(:)
@@ -103,8 +105,13 @@ contains
     nd = cfg%ndim
     if (.not. given(groups, n_groups, 'domain', 'ndim')) &
       call bad(base, 'domain', 'ndim', 'missing required value')
+    ! without a &domain group at all, its other required values are the same mistake
+    if (.not. any([(groups(d)%name == 'domain', d = 1, n_groups)])) &
+      call deck_error_mark('&domain *')
     if (nd < 1 .or. nd > 3) call bad(base, 'domain', 'ndim', 'must be 1, 2 or 3, got ' &
       // int_text(nd))
+    ! the directions, cells and blocks mean nothing without a valid ndim
+    if (deck_has_error('&domain ndim')) return
     nd_text = 'ndim = ' // int_text(nd)
     call check_choice(base, 'domain', 'geometry', cfg%geometry, geometries)
     if (cfg%geometry == 'axisymmetric') then
@@ -139,6 +146,8 @@ contains
       write(dd, '(a,i1,a)') '(', d, ')'
       if (d > nd) then
         cfg%block(d) = 1
+      else if (deck_has_error('&domain cells')) then
+        cycle
       else if (cfg%block(d) == 0) then
         cfg%block(d) = default_block(cfg%cells(d), nd)
       else if (cfg%block(d) < min_block) then
@@ -162,7 +171,8 @@ contains
         // dd // " = '" // trim(cfg%bc_lo(d)) // "' but bc_hi" // dd // " = '" &
         // trim(cfg%bc_hi(d)) // "' (both or neither must be 'periodic')")
     end do
-    if (cfg%geometry == 'axisymmetric' .and. .not. cfg%lo(1) > 0.0_wp) then
+    if (cfg%geometry == 'axisymmetric' .and. .not. cfg%lo(1) > 0.0_wp &
+      .and. .not. deck_has_error('&domain lo')) then
       if (cfg%bc_lo(1) /= 'symmetry') call bad(base, 'domain', 'bc_lo(1)', &
         "must be 'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), got '" &
         // trim(cfg%bc_lo(1)) // "'")
@@ -276,7 +286,10 @@ contains
     type(material_t), intent(inout) :: m
     character(len=17) :: needs(8)
     character(len=:), allocatable :: in_m, model, why
-    integer :: k, n_needs
+    integer :: k, n_needs, n_before, n_start
+    n_start = deck_error_count()
+    ! a name that could not be read: which material this is, and so its values, is unknown
+    if (len_trim(m%name) == 0 .and. deck_has_error('&material name')) return
     if (len_trim(m%name) == 0) call bad(base, 'material', 'name', 'missing required value')
     in_m = " in material '" // trim(m%name) // "'"
     if (.not. valid_name(m%name)) call bad(base, 'material', 'name', "'" // trim(m%name) &
@@ -302,6 +315,8 @@ contains
       needs(1:n_needs) = [character(len=17) :: 'rho0', 'p0', 'bulk_modulus', 'poly_a', &
         'poly_b', 'gruneisen', 'cv', 'T0']
     end select
+    ! an unknown or missing eos needs nothing more
+    if (deck_error_count() > n_start) n_needs = 0
     do k = 1, n_needs
       if (.not. is_set(material_value(m, needs(k)))) call bad(base, 'material', &
         trim(needs(k)), "missing required value for eos '" // trim(m%eos) // "'" // in_m)
@@ -328,6 +343,7 @@ contains
       end do
       m%strength_model = 'none'
     end if
+    n_before = deck_error_count()
     call check_choice(base, 'material', 'strength_model', m%strength_model, strength_models)
     model = trim(m%strength_model)
     if (model /= 'none' .and. in_list(m%eos, gas_eoses)) call bad(base, 'material', &
@@ -358,6 +374,7 @@ contains
       needs(1:n_needs) = [character(len=17) :: 'shear_modulus', 'yield0', 'vp_chi', 'vp_m', &
         'vp_n']
     end select
+    if (deck_error_count() > n_before) n_needs = 0
     do k = 1, n_needs
       if (.not. is_set(material_value(m, needs(k)))) call bad(base, 'material', &
         trim(needs(k)), "missing required value for strength_model '" // model // "'" // in_m)
@@ -388,6 +405,7 @@ contains
         // 'that heats)' // in_m // ', got ' // real_text(m%taylor_quinney))
     end if
     ! the strength modules' own test of the parameters, should it know more than the above
+    if (deck_error_count() > n_start) return
     why = strength_problem(strength_from_material(m))
     if (len_trim(why) > 0) call bad(base, 'material', 'strength_model', trim(why) // in_m)
 
@@ -544,6 +562,7 @@ contains
           'must lie in (-1, 1) so that rho (1 + amplitude sin(2 pi k.x)) stays > 0' // in_b &
           // ', got ' // real_text(b%amplitude))
         if (b%material == 'void' .or. b%material == 'rigid') cycle
+        if (material_index(cfg, b%material) == 0) cycle   ! an error already
         m = cfg%materials(material_index(cfg, b%material))
         if (is_set(b%p) .and. is_set(b%T)) call bad(base, 'body', 'T', &
           'set p or T' // in_b // ', not both')
