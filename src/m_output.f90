@@ -18,6 +18,7 @@ module m_output
   use m_levelset_bodies, only: ls_region, ls_material
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
+  use m_config, only: is_set, material_index
   implicit none
   private
   public :: output_plot, output_checkpoint, output_restart, output_restart_check
@@ -361,7 +362,8 @@ contains
   end function history_columns
 
   !> The history row after 'step': totals over the real cells (volume-weighted; 2 pi r in
-  !> axisymmetry), maxima, and the bodies' columns.
+  !> axisymmetry), maxima, and the bodies' columns. max_T leaves out a gas without cv (no
+  !> temperature); 0 when no phase has one.
   function history_values(sim) result(v)
     type(sim_t), intent(in) :: sim
     real(wp), allocatable :: v(:)
@@ -371,6 +373,10 @@ contains
     logical :: isreal(sim%lay%bsize(1))
     integer :: b, i, j, k, n, l, nb, ph, o
     real(wp), allocatable :: body(:, :)
+    logical :: has_t(sim%nphase)
+    do ph = 1, sim%nphase
+      has_t(ph) = is_set(sim%cfg%materials(material_index(sim%cfg, sim%material(ph)))%cv)
+    end do
     n = sim%lay%bsize(1)
     tot = 0.0_wp
     pmax = -huge(1.0_wp)
@@ -402,7 +408,7 @@ contains
                 tot(6) = tot(6) + sum(msk * dv * rho * e)
                 tot(7) = tot(7) + sum(msk * dv * qp(:, i_en))
                 pmax = max(pmax, maxval(p, msk > 0.0_wp))
-                tmax = max(tmax, maxval(temp, msk > 0.0_wp))
+                if (has_t(ph)) tmax = max(tmax, maxval(temp, msk > 0.0_wp))
                 if (sim%strong(ph)) epmax = max(epmax, &
                   maxval(qp(:, i_epsp) / rho, msk > 0.0_wp))
               end associate
@@ -413,7 +419,9 @@ contains
     end do
     tot(8) = real(sim%fallback_step, wp)
     call comm_sum_array(tot(1:7))
-    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), comm_max(epmax), tot(8), &
+    tmax = comm_max(tmax)
+    if (.not. any(has_t)) tmax = 0.0_wp
+    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), tmax, comm_max(epmax), tot(8), &
       real(sim%first_order_steps, wp), real(comm_sum(sim%cells_low), wp)]
     if (sim%fix_mass) v = [v, sim%measure, sum(sim%fixed, dim=2), sum(sim%content, dim=2)]
     nb = count(sim%ls%kind == ls_material)

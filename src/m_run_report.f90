@@ -63,15 +63,17 @@ contains
   !> last is set,
   !>   progress: step 1200, t 4.5000e-05, dt 3.7500e-08, 56.2 % of t_end, wall 30.1 s,
   !>   left 23.4 s, 1.234e+06 cell-steps/s
-  !> (one line). The per cent and the time left are of t_end or max_steps, whichever the run
-  !> reaches first; the rate counts the active cells of all ranks.
+  !> (one line). The per cent (from t = 0, step 0) and the time left (from this run's
+  !> start) are of t_end or max_steps, whichever the run reaches first; the rate counts the
+  !> active cells of all ranks.
   subroutine progress_report(sim, pg, t_end, last)
     type(sim_t), intent(in) :: sim
     type(progress_t), intent(inout) :: pg
     real(wp), intent(in) :: t_end
     logical, intent(in) :: last
     character(len=line_len) :: line
-    real(wp) :: now, done, left, rate, cells
+    real(wp) :: now, done, left, rate, cells, share
+    logical :: by_steps
     if (.not. comm_is_root()) return
     now = comm_wtime()
     if (.not. last .and. now - pg%last < progress_every) return
@@ -86,24 +88,41 @@ contains
     if (done > 0.0_wp) left = (now - pg%wall0) * (1.0_wp - done) / done
     cells = real(count(sim%lay%active), wp) * product(real(sim%lay%bsize, wp))
     rate = cells * (sim%step - pg%step0) / max(now - pg%wall0, 1.0e-9_wp)
-    write(line, '(a,i0,a,es11.4,a,es11.4,a,f6.1,a,f0.1,a,f0.1,a,es10.3,a)') 'progress: step ', &
-      sim%step, ', t ', sim%time, ', dt ', sim%dt, ', ', 100.0_wp * percent_of(sim, t_end), &
-      ' % of ' // trim(merge('t_end    ', 'max_steps', t_end < huge(1.0_wp))) // ', wall ', &
-      now - sim%wall_start, ' s, left ', left, ' s, ', rate, ' cell-steps/s'
+    share = 0.0_wp
+    if (t_end < huge(1.0_wp)) share = sim%time / t_end
+    by_steps = .false.
+    if (sim%cfg%max_steps < huge(1)) then
+      by_steps = real(sim%step, wp) / max(sim%cfg%max_steps, 1) > share
+      if (by_steps) share = real(sim%step, wp) / max(sim%cfg%max_steps, 1)
+    end if
+    write(line, '(a,i0,14a)') 'progress: step ', sim%step, &
+      ', t ', sci(sim%time, 4), ', dt ', sci(sim%dt, 4), ', ', seconds(100.0_wp * share), &
+      ' % of ' // trim(merge('max_steps', 't_end    ', by_steps)), ', wall ', &
+      seconds(now - sim%wall_start), ' s, left ', seconds(left), ' s, ', sci(rate, 3), &
+      ' cell-steps/s'
     call log_line(line)
     call log_flush()
   end subroutine progress_report
 
-  !> the share of the run done: of t_end (from 0) when it is set, else of max_steps
-  real(wp) function percent_of(sim, t_end) result(f)
-    type(sim_t), intent(in) :: sim
-    real(wp), intent(in) :: t_end
-    if (t_end < huge(1.0_wp)) then
-      f = sim%time / t_end
-    else
-      f = real(sim%step, wp) / max(sim%cfg%max_steps, 1)
-    end if
-  end function percent_of
+  !> x as 1.2345e-05 (digits after the point)
+  function sci(x, digits) result(r)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: digits
+    character(len=:), allocatable :: r
+    character(len=32) :: buf, fmt
+    write(fmt, '(a,i0,a,i0,a)') '(es', digits + 8, '.', digits, 'e2)'
+    write(buf, fmt) x
+    r = trim(adjustl(buf))
+  end function sci
+
+  !> one decimal and a leading zero: 0.1, 12.5, 3600.0
+  function seconds(x) result(r)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: r
+    character(len=32) :: buf
+    write(buf, '(f12.1)') x
+    r = trim(adjustl(buf))
+  end function seconds
 
   !> run.log's reason for the thermal effect
   function thermal_reason(s) result(text)
@@ -249,7 +268,11 @@ contains
     call effect(js, 'strength', s%has_strength, s%strength_reason)
     call effect(js, 'thermal', s%has_strength .and. s%cfg%thermal, thermal_reason(s))
     call effect(js, 'interfaces', s%ls%n > 0, interfaces_reason(s))
-    call effect(js, 'conservation_fix', s%fix_mass, s%fix_reason)
+    if (s%ls%n > 0) then
+      call effect(js, 'conservation_fix', s%fix_mass, s%fix_reason)
+    else
+      call effect(js, 'conservation_fix', .false., 'off: no level sets')
+    end if
     call json_close(js)
     call json_object(js, 'state')
     call json_put(js, 'variables', s%nvar)

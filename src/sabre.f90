@@ -151,13 +151,14 @@ contains
     character(len=line_len) :: line
     integer :: k
     line = 'memory: estimate ' // mem_text(sum(s%mem)) // ' per rank above the ' // &
-      'baseline of ' // mem_text(s%mem_base) // ' ('
+      'baseline of ' // mem_text(s%mem_base) // ' (part by part:'
     do k = 1, size(mem_parts)
+      if (k > 1) line = trim(line) // ','
       line = trim(line) // ' ' // trim(mem_parts(k)) // ' ' // mem_text(s%mem(k))
-      if (k < size(mem_parts)) line = trim(line) // ','
     end do
-    write(line, '(a,a,i0,a)') trim(line), '); the node has ', s%node_ranks, &
-      ' ranks and ' // mem_text(s%node_available) // ' available'
+    write(line, '(a,a,i0,a)') trim(line), '); this node: ', s%node_ranks, &
+      trim(merge(' rank  ', ' ranks ', s%node_ranks == 1)) // ', ' // &
+      mem_text(s%node_available) // ' available'
     call log_line(line)
   end subroutine write_memory_estimate
 
