@@ -188,9 +188,10 @@ contains
     f%reinit_s = comm_max(timer_total(s%timers, 'reinit'))
     if (s%fix_mass) then
       f%fixed = [sum(s%fixed(1, :)), sum(s%fixed(2, :))]
-      f%fixed_percent = 100.0_wp * f%fixed / s%content0
+      f%fixed_percent(1) = 100.0_wp * f%fixed(1) / s%content0(1)
       ! the energy part off: its content is not tracked, no per cent to give
-      if (.not. s%fix_energy) f%fixed_percent(2) = ieee_nan()
+      f%fixed_percent(2) = ieee_nan()
+      if (s%fix_energy) f%fixed_percent(2) = 100.0_wp * f%fixed(2) / s%content0(2)
     end if
     f%fix_clamped = s%fix_clamped
     f%fix_aside = s%fix_aside
