@@ -38,9 +38,10 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_config core/m_state
   levelset/m_levelset_derivatives levelset/m_levelset_advect levelset/m_levelset_reinit \
   levelset/m_levelset_geometry levelset/m_levelset_bodies numerics/m_flux numerics/m_euler \
   gfm/m_gfm_probe gfm/m_gfm_stress gfm/m_gfm_mvi gfm/m_gfm_mri gfm/m_gfm_mmi gfm/m_gfm gfm/m_gfm_conserve \
-  scene/m_scene strength/m_material_library numerics/m_numerics_defaults io/m_deck_text io/m_deck_parse io/m_deck_values \
-  io/m_deck_schema io/m_deck_check io/m_deck_write io/m_deck io/m_history io/m_hdf5_io io/m_xdmf
-DRIVER := m_simulation m_output m_timeloop
+  scene/m_scene strength/m_material_library numerics/m_numerics_defaults io/m_deck_text \
+  io/m_deck_parse io/m_deck_values \
+  io/m_deck_schema io/m_deck_check io/m_deck_write io/m_deck io/m_history io/m_hdf5_io io/m_xdmf io/m_json
+DRIVER := m_simulation m_output m_run_report m_timeloop
 SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))

@@ -9,17 +9,24 @@ module m_output
   use m_euler, only: primitive_row, solid_temperature
   use m_eos, only: eos_temperature, eos_sound_speed2
   use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
-    h5_read_attr, h5_write_field, h5_read_field, h5_write_text, h5_has_attr
+    h5_read_attr, h5_write_field, h5_read_field, h5_write_text, h5_has_attr, h5_is_hdf5, &
+    h5_exists
   use m_xdmf, only: xdmf_write
   use m_comm, only: comm_sum_array, comm_max, comm_sum
   use m_errors, only: stop_collective, log_line
-  use m_deck_text, only: base_name
+  use m_deck_text, only: base_name, int_text
   use m_levelset_bodies, only: ls_region, ls_material
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
+  use m_config, only: is_set, material_index
   implicit none
   private
-  public :: output_plot, output_checkpoint, output_restart, history_columns, history_values
+  public :: output_plot, output_checkpoint, output_restart, output_restart_check
+  public :: history_columns, history_values
+
+  !> the version of the checkpoint layout this code writes and reads; a checkpoint without
+  !> the attribute was written before it existed (version 0, read the same way)
+  integer, parameter :: checkpoint_version = 1
   public :: step_file_name
 
 contains
@@ -195,6 +202,7 @@ contains
     call h5_write_attr(f, 'next_plot_time', sim%next_plot_time)
     call h5_write_attr(f, 'dt_first', sim%dt_first)
     call h5_write_attr(f, 'nvar', sim%nvar)
+    call h5_write_attr(f, 'checkpoint_version', checkpoint_version)
     if (sim%fix_mass) then
       ! the conservation fix's state (m_timeloop::conserve_step)
       call h5_write_attr(f, 'fix_content', reshape(sim%content, [size(sim%content)]))
@@ -215,25 +223,90 @@ contains
     call log_line('checkpoint ' // trim(step_file_name(sim, 'chk', sim%step, '.h5')))
   end subroutine output_checkpoint
 
+  !> Refuse, on every rank and before anything is written, a restart file that is missing,
+  !> not HDF5, not a SABRE checkpoint (a plot file, another code's file), of a later
+  !> checkpoint version, or for another grid or state than the deck's.
+  subroutine output_restart_check(sim, path)
+    type(sim_t), intent(in) :: sim
+    character(len=*), intent(in) :: path
+    character(len=*), parameter :: needed(5) = [character(len=10) :: 'cells', 'nvar', 'step', &
+      'time', 'dt_first']
+    type(h5_file_t) :: f
+    character(len=:), allocatable :: why, name
+    integer :: cells(3), nvar, version, k
+    real(wp) :: lo(3), hi(3)
+    logical :: exists
+    name = "'" // trim(path) // "'"
+    why = ''
+    inquire(file=trim(path), exist=exists)
+    if (.not. exists) then
+      why = 'no such checkpoint file ' // name
+    else if (.not. h5_is_hdf5(path)) then
+      why = name // ' is not a SABRE checkpoint (not an HDF5 file; restart names a ' // &
+        'chk_NNNNNN.h5 file)'
+    else
+      call h5_open_read(f, path)
+      do k = 1, size(needed)
+        if (len(why) > 0) exit
+        if (.not. h5_has_attr(f, trim(needed(k)))) why = name // &
+          ' is not a SABRE checkpoint (no attribute ' // trim(needed(k)) // '; a plot file?)'
+      end do
+      if (len(why) == 0) then
+        if (.not. h5_exists(f, '/state')) why = name // &
+          ' is not a SABRE checkpoint (no /state group)'
+      end if
+      if (len(why) == 0) then
+        version = 0
+        if (h5_has_attr(f, 'checkpoint_version')) &
+          call h5_read_attr(f, 'checkpoint_version', version)
+        call h5_read_attr(f, 'cells', cells)
+        call h5_read_attr(f, 'nvar', nvar)
+        call h5_read_attr(f, 'lo', lo)
+        call h5_read_attr(f, 'hi', hi)
+        if (version > checkpoint_version) then
+          why = name // ' is a version ' // int_text(version) // ' checkpoint; this SABRE ' &
+            // 'reads versions up to ' // int_text(checkpoint_version)
+        else if (any(cells /= sim%lay%cells)) then
+          why = name // ' is for another grid: cells ' // dims(cells) // ', the deck has ' &
+            // dims(sim%lay%cells) // ' (restart with the &domain of the run that wrote it)'
+        else if (any(abs(lo - sim%lay%lo) > 1.0e-12_wp * max(abs(lo), abs(hi - lo))) .or. &
+          any(abs(hi - sim%lay%hi) > 1.0e-12_wp * max(abs(hi), abs(hi - lo)))) then
+          why = name // ' is for another domain (lo, hi differ from the deck''s)'
+        else if (nvar /= sim%nvar) then
+          why = name // ' is for another state: ' // int_text(nvar) // ' variables per ' // &
+            'cell, the deck has ' // int_text(sim%nvar) // ' (other materials, bodies or ' // &
+            'effects)'
+        end if
+      end if
+      call h5_close(f)
+    end if
+    call stop_collective('ERROR ' // base_name(sim%cfg%deck_file) // ' &run restart: ' // &
+      why // " (typical value 'out/sod/chk_000100.h5')", len(why) == 0)
+
+  contains
+
+    function dims(n) result(t)
+      integer, intent(in) :: n(3)
+      character(len=:), allocatable :: t
+      t = int_text(n(1)) // ' x ' // int_text(n(2)) // ' x ' // int_text(n(3))
+    end function dims
+
+  end subroutine output_restart_check
+
   subroutine output_restart(sim, path)
     type(sim_t), intent(inout) :: sim
     character(len=*), intent(in) :: path
     type(h5_file_t) :: f
     real(wp), allocatable :: data(:, :, :, :)
     integer, allocatable :: ids(:)
-    integer :: m, b, n(3), cells(3), nvar
+    integer :: m, b, n(3)
     real(wp), allocatable :: fix(:)
-    ! that the file exists was checked with the deck (deck_prepare_output)
+    ! that the file is a checkpoint for this grid and state was checked before anything was
+    ! written (output_restart_check)
     n = sim%lay%bsize
     allocate(data(n(1), n(2), n(3), size(sim%blocks)))
     ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
     call h5_open_read(f, path)
-    call h5_read_attr(f, 'cells', cells)
-    call h5_read_attr(f, 'nvar', nvar)
-    call stop_collective('ERROR ' // base_name(sim%cfg%deck_file) // &
-      ' &run restart: checkpoint ' // trim(path) // ' is for another grid or state ' // &
-      '(cells or variables differ from the deck)', &
-      all(cells == sim%lay%cells) .and. nvar == sim%nvar)
     call h5_read_attr(f, 'time', sim%time)
     call h5_read_attr(f, 'step', sim%step)
     call h5_read_attr(f, 'plot_count', sim%plot_count)
@@ -289,7 +362,8 @@ contains
   end function history_columns
 
   !> The history row after 'step': totals over the real cells (volume-weighted; 2 pi r in
-  !> axisymmetry), maxima, and the bodies' columns.
+  !> axisymmetry), maxima, and the bodies' columns. max_T leaves out a gas without cv (no
+  !> temperature); 0 when no phase has one.
   function history_values(sim) result(v)
     type(sim_t), intent(in) :: sim
     real(wp), allocatable :: v(:)
@@ -299,6 +373,10 @@ contains
     logical :: isreal(sim%lay%bsize(1))
     integer :: b, i, j, k, n, l, nb, ph, o
     real(wp), allocatable :: body(:, :)
+    logical :: has_t(sim%nphase)
+    do ph = 1, sim%nphase
+      has_t(ph) = is_set(sim%cfg%materials(material_index(sim%cfg, sim%material(ph)))%cv)
+    end do
     n = sim%lay%bsize(1)
     tot = 0.0_wp
     pmax = -huge(1.0_wp)
@@ -330,7 +408,7 @@ contains
                 tot(6) = tot(6) + sum(msk * dv * rho * e)
                 tot(7) = tot(7) + sum(msk * dv * qp(:, i_en))
                 pmax = max(pmax, maxval(p, msk > 0.0_wp))
-                tmax = max(tmax, maxval(temp, msk > 0.0_wp))
+                if (has_t(ph)) tmax = max(tmax, maxval(temp, msk > 0.0_wp))
                 if (sim%strong(ph)) epmax = max(epmax, &
                   maxval(qp(:, i_epsp) / rho, msk > 0.0_wp))
               end associate
@@ -341,7 +419,9 @@ contains
     end do
     tot(8) = real(sim%fallback_step, wp)
     call comm_sum_array(tot(1:7))
-    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), comm_max(tmax), comm_max(epmax), tot(8), &
+    tmax = comm_max(tmax)
+    if (.not. any(has_t)) tmax = 0.0_wp
+    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), tmax, comm_max(epmax), tot(8), &
       real(sim%first_order_steps, wp), real(comm_sum(sim%cells_low), wp)]
     if (sim%fix_mass) v = [v, sim%measure, sum(sim%fixed, dim=2), sum(sim%content, dim=2)]
     nb = count(sim%ls%kind == ls_material)

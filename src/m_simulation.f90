@@ -1,8 +1,9 @@
 !> The simulation as one object: the resolved deck, the block layout, this rank's blocks,
 !> the halo plan, the equation of state, boundary conditions and scheme choices, and the
 !> clock (time, step, output schedule). sim_setup turns a deck into a ready-to-run
-!> simulation: layout, rigid-obstacle blocks, METIS partition, allocation and the initial
-!> state painted from the bodies (or read from a checkpoint by m_output).
+!> simulation: layout, rigid-obstacle blocks, the memory estimate (a deck that does not fit
+!> the node is refused before anything is allocated), METIS partition, allocation and the
+!> initial state painted from the bodies (or read from a checkpoint by m_output).
 module m_simulation
   use m_kinds, only: wp, i8, name_len
   use m_config, only: config_t, material_t, is_set, material_index
@@ -21,13 +22,17 @@ module m_simulation
   use m_gfm, only: gfm_work_t, gfm_work_init, gfm_counts_t, gfm_scene_t, probe_from_name
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid
   use m_yield, only: strength_t, strength_from_material, strength_none
-  use m_timers, only: timers_t
-  use m_comm, only: comm_rank
+  use m_timers, only: timers_t, memory_kb, node_memory_kb
+  use m_comm, only: comm_rank, comm_size, comm_node_ranks
   use m_errors, only: stop_collective
-  use m_deck_text, only: base_name
+  use m_deck_text, only: base_name, int_text
   implicit none
   private
-  public :: sim_t, sim_setup, sim_paint_initial_state
+  public :: sim_t, sim_setup, sim_paint_initial_state, mem_parts, mem_text
+
+  !> the parts of the memory estimate (sim_memory_estimate), in the order of sim_t%mem
+  character(len=*), parameter :: mem_parts(6) = [character(len=10) :: 'state', 'halos', &
+    'level_sets', 'output', 'work', 'layout']
 
   !> Depth of the ghost band in cells: the reach (3) of the ENO3 and WENO5 stencils of a real
   !> cell next to the surface, and a half cell for oblique surfaces.
@@ -93,6 +98,12 @@ module m_simulation
     integer :: restart_step = 0
     type(timers_t) :: timers
     real(wp) :: wall_start = 0.0_wp
+    ! the memory estimate of one rank in bytes, part by part (mem_parts), made before the
+    ! grid is allocated; the resident memory then; what the node has, and its ranks
+    real(wp) :: mem(size(mem_parts)) = 0.0_wp
+    real(wp) :: mem_base = 0.0_wp
+    real(wp) :: node_available = 0.0_wp
+    integer :: node_ranks = 1
   end type sim_t
 
 contains
@@ -138,6 +149,8 @@ contains
     if (sim%has_strength) sim%nflow = n_solid
     sim%ils = sim%nphase * sim%nflow
     sim%nvar = sim%ils + sim%ls%n
+    call sim_memory_estimate(sim)
+    call memory_check(sim)
     allocate(work(sim%lay%nblocks))
     work = product(sim%lay%bsize)
     call partition_blocks(sim%lay, work)
@@ -404,6 +417,80 @@ contains
     sinc = 1.0_wp
     if (abs(z) > 1.0e-8_wp) sinc = sin(z) / z
   end function sinc
+
+  !> What one rank will hold once the grid is allocated, in bytes (manual/user-guide.md,
+  !> "Memory"): the blocks' state with halo, start-of-step copy and right-hand side; the
+  !> packed halo messages to other ranks (send and receive) of a compact piece of blocks;
+  !> the copy of the level sets that reinitialisation keeps; one field of every block that
+  !> plot files and checkpoints gather; the per-block work arrays of the fluxes and the
+  !> ghost fill; the whole-grid block tables and the METIS graph. A rank is taken to hold
+  !> its share of the active blocks, rounded up (METIS balances the cells).
+  subroutine sim_memory_estimate(sim)
+    type(sim_t), intent(inout) :: sim
+    real(wp), parameter :: b8 = 8.0_wp
+    real(wp) :: nb, ni, np, nd, halo_cells
+    logical :: leader
+    nd = real(sim%lay%ndim, wp)
+    nb = real(ceiling(real(count(sim%lay%active), wp) / comm_size()), wp)
+    ni = product(real(sim%lay%bsize, wp))
+    np = product(real(sim%lay%bsize + 2 * sim%lay%ng, wp))
+    sim%mem(1) = b8 * nb * sim%nvar * (np + 2.0_wp * ni)
+    ! the blocks on the surface of a compact piece of nb blocks, one face halo each
+    halo_cells = 0.0_wp
+    if (comm_size() > 1) halo_cells = min(nb, 2.0_wp * nd * nb**((nd - 1.0_wp) / nd)) &
+      * (np - ni) / (2.0_wp * nd)
+    sim%mem(2) = 2.0_wp * b8 * sim%nvar * halo_cells
+    sim%mem(3) = b8 * sim%ls%n * np * nb
+    sim%mem(4) = b8 * ni * nb
+    sim%mem(5) = b8 * (np * (sim%nflow * (1 + sim%nphase) + 2 * sim%nphase + 3) &
+      + ni * (sim%nvar + 2))
+    ! active and owner, and METIS's graph (offsets, 6 neighbours and weights, vertex
+    ! weights, parts, and its own copies) of every block of the grid
+    sim%mem(6) = 100.0_wp * sim%lay%nblocks
+    sim%mem_base = 1024.0_wp * memory_kb('VmRSS')
+    call comm_node_ranks(sim%node_ranks, leader)
+    sim%node_available = 1024.0_wp * node_memory_kb('MemAvailable')
+    if (.not. sim%node_available > 0.0_wp) &
+      sim%node_available = 1024.0_wp * node_memory_kb('MemTotal')
+  end subroutine sim_memory_estimate
+
+  !> Refuse, on every rank, a run whose ranks on one node would need more than the node has
+  !> available (when the node says: /proc/meminfo).
+  subroutine memory_check(sim)
+    type(sim_t), intent(in) :: sim
+    real(wp) :: need
+    need = sim%node_ranks * sum(sim%mem)
+    call stop_collective('ERROR ' // trim(base_name(sim%cfg%deck_file)) // ' &domain cells: ' &
+      // 'the run needs an estimated ' // mem_text(need) // ' on this node (' &
+      // int_text(sim%node_ranks) // trim(merge(' rank  ', ' ranks ', sim%node_ranks == 1)) &
+      // ' of ' // mem_text(sum(sim%mem)) // ' each) ' &
+      // 'but the node has ' // mem_text(sim%node_available) // ' available ' &
+      // '(/proc/meminfo MemAvailable): use fewer cells, or more nodes', &
+      .not. (sim%node_available > 0.0_wp .and. need > sim%node_available))
+  end subroutine memory_check
+
+  !> bytes with about 3 digits and a unit: '9766 GiB', '23.4 GiB', '512 MiB', '1.25 MiB'
+  function mem_text(bytes) result(r)
+    real(wp), intent(in) :: bytes
+    character(len=:), allocatable :: r
+    character(len=32) :: buf
+    character(len=4) :: unit
+    real(wp) :: x
+    x = bytes / 1024.0_wp**3
+    unit = ' GiB'
+    if (x < 1.0_wp) then
+      x = bytes / 1024.0_wp**2
+      unit = ' MiB'
+    end if
+    if (x >= 100.0_wp) then
+      write(buf, '(i0)') nint(x, i8)
+    else if (x >= 10.0_wp) then
+      write(buf, '(f0.1)') x
+    else
+      write(buf, '(f4.2)') x
+    end if
+    r = trim(adjustl(buf)) // unit
+  end function mem_text
 
   !> Which parts of the conservation fix apply (m_gfm_conserve), and why.
   subroutine fix_setup(sim)

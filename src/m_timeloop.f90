@@ -26,6 +26,7 @@ module m_timeloop
   use m_levelset_reinit, only: levelset_reinit_step
   use m_scene, only: body_distance, cell_centre
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en
+  use m_run_report, only: progress_t, progress_start, progress_report
   implicit none
   private
   public :: run_time_loop
@@ -36,6 +37,7 @@ contains
     type(sim_t), intent(inout) :: sim
     character(len=*), intent(in) :: deck_text
     type(history_t) :: hist
+    type(progress_t) :: progress
     real(wp) :: rate, t_end, step_wall, t0, worst_step
     logical :: ok, stop_wall, stop_bad, changed
     character(len=line_len) :: msg
@@ -56,6 +58,7 @@ contains
       call history_write(hist, sim%step, history_values(sim))
     end if
     worst_step = 0.0_wp
+    call progress_start(sim, progress)
     call step_size(sim, rate, ok)
     stop_bad = .not. ok
     do
@@ -103,6 +106,7 @@ contains
         if (mod(sim%step, sim%cfg%checkpoint_every) == 0) call output_checkpoint(sim, deck_text)
       end if
       call timer_stop(sim%timers, 'output')
+      call progress_report(sim, progress, t_end, .false.)
       stop_wall = .false.
       if (sim%cfg%wall_limit > 0.0_wp .and. comm_is_root()) stop_wall = &
         comm_wtime() - sim%wall_start + 3.0_wp * worst_step + 5.0_wp > sim%cfg%wall_limit
@@ -120,6 +124,7 @@ contains
       call history_write(hist, sim%step, history_values(sim))
     call history_close(hist)
     call output_plot(sim)
+    call progress_report(sim, progress, t_end, .true.)
     write(msg, '(a,i0,a,es12.5)') 'inadmissible state (rho <= 0, c^2 <= 0 or NaN) at step ', &
       sim%step, ', time ', sim%time
     call stop_collective('ERROR [time loop]: ' // trim(msg) // '; the last plot file ' // &

@@ -2,20 +2,23 @@
 !>   bin/sabre DECK [group.variable=value ...]
 !>   mpirun -np N bin/sabre DECK ...
 !> Reads and validates the deck, sets up blocks over the ranks, runs the time loop and writes
-!> out_dir/run.log, history.csv, plot files and checkpoints (manual/user-guide.md).
+!> out_dir/run.log, run.json, history.csv, plot files and checkpoints (manual/user-guide.md).
+!> Everything the deck points at (its values, the memory it needs, the restart file) is
+!> checked before out_dir is created.
 program sabre
   use, intrinsic :: iso_fortran_env, only: compiler_version, compiler_options
-  use m_kinds, only: wp, i8, path_len, line_len
+  use m_kinds, only: wp, path_len, line_len
   use m_config, only: config_t
-  use m_comm, only: comm_init, comm_exit, comm_size, comm_wtime, comm_sum, comm_min, &
-    comm_max, comm_rank
+  use m_comm, only: comm_init, comm_exit, comm_size, comm_wtime, comm_min, comm_max, comm_rank
   use m_errors, only: log_open, log_close, log_line
   use m_deck, only: deck_read, deck_prepare_output
   use m_hdf5_io, only: h5_init, h5_finalize
-  use m_simulation, only: sim_t, sim_setup, sim_paint_initial_state
-  use m_output, only: output_restart
+  use m_simulation, only: sim_t, sim_setup, sim_paint_initial_state, mem_parts, mem_text
+  use m_output, only: output_restart, output_restart_check
   use m_timeloop, only: run_time_loop
-  use m_timers, only: timer_total, memory_kb
+  use m_timers, only: memory_kb
+  use m_run_report, only: run_facts_t, run_facts, run_json_write, thermal_reason, &
+    interfaces_reason
   implicit none
   type(config_t) :: cfg
   type(sim_t) :: sim
@@ -45,6 +48,7 @@ program sabre
   base_kb = memory_kb('VmRSS')
   call deck_read(trim(deck_path), overrides, cfg)
   call sim_setup(cfg, sim)
+  if (len_trim(cfg%restart) > 0) call output_restart_check(sim, cfg%restart)
   call deck_prepare_output(cfg)
   call log_open(trim(cfg%out_dir) // '/run.log')
   sim%wall_start = wall
@@ -123,15 +127,7 @@ contains
       call log_line(line)
     end do
     call log_line('effects: strength ' // trim(s%strength_reason))
-    if (s%has_strength .and. s%cfg%thermal) then
-      call log_line('effects: thermal on: temperature from the EOS less elastic and stored ' // &
-        'work; Taylor-Quinney heating; Johnson-Cook softening where the model has it')
-    else if (s%has_strength) then
-      call log_line('effects: thermal off: &physics thermal = .false. or no material needs ' // &
-        'it; the yield stress sees the reference temperature')
-    else
-      call log_line('effects: thermal off: no strength (a gas carries its temperature in e)')
-    end if
+    call log_line('effects: thermal ' // thermal_reason(s))
     call log_line('effects: heat conduction off, reaction off (not in this version)')
     call log_line('effects: interfaces ' // trim(interfaces_reason(s)))
     if (s%ls%n > 0 .and. s%has_strength) call log_line('gfm: conservation fix ' // &
@@ -147,27 +143,25 @@ contains
     if (s%ls%n > 0) write(line, '(a,a,i0,a)') trim(line), '; ', s%ls%n, ' level sets'
     line = trim(line) // ')'
     call log_line(line)
+    call write_memory_estimate(s)
   end subroutine write_run_header
 
-  !> 'on: ...' with the level-set bodies and their boundary classes, or 'off: ...'.
-  function interfaces_reason(s) result(text)
+  !> The memory estimate made before the grid was allocated (m_simulation), part by part.
+  subroutine write_memory_estimate(s)
     type(sim_t), intent(in) :: s
-    character(len=line_len) :: text
-    character(len=*), parameter :: class_name(3) = [character(len=24) :: &
-      'free surface / contact', 'void, free surface (MVI)', 'rigid (MRI)']
-    integer :: l
-    if (s%ls%n == 0) then
-      text = 'off: no body of another material, void or rigid'
-      return
-    end if
-    write(text, '(a,i0,a,i0,a,f4.2,a)') 'on: ', s%ls%n, ' level sets, probe ' // &
-      trim(s%cfg%gfm_probe) // ', band ', s%cfg%band, ' cells, contact kappa ', &
-      s%cfg%contact_kappa, ':'
-    do l = 1, s%ls%n
-      text = trim(text) // ' ' // trim(s%ls%name(l)) // ' ' // trim(class_name(s%ls%kind(l)))
-      if (l < s%ls%n) text = trim(text) // ';'
+    character(len=line_len) :: line
+    integer :: k
+    line = 'memory: estimate ' // mem_text(sum(s%mem)) // ' per rank above the ' // &
+      'baseline of ' // mem_text(s%mem_base) // ' (part by part:'
+    do k = 1, size(mem_parts)
+      if (k > 1) line = trim(line) // ','
+      line = trim(line) // ' ' // trim(mem_parts(k)) // ' ' // mem_text(s%mem(k))
     end do
-  end function interfaces_reason
+    write(line, '(a,a,i0,a)') trim(line), '); this node: ', s%node_ranks, &
+      trim(merge(' rank  ', ' ranks ', s%node_ranks == 1)) // ', ' // &
+      mem_text(s%node_available) // ' available'
+    call log_line(line)
+  end subroutine write_memory_estimate
 
   function eos_name(s, p) result(name)
     type(sim_t), intent(in) :: s
@@ -180,81 +174,77 @@ contains
     end do
   end function eos_name
 
+  !> run.log's last lines and run.json, from the same facts (m_run_report).
   subroutine write_run_footer(s, elapsed, loop, base)
     type(sim_t), intent(inout) :: s
     real(wp), intent(in) :: elapsed, loop, base
     character(len=line_len) :: line
-    integer(i8) :: cs, nfall
-    real(wp) :: cells, peak, base_sum, arrays, work
-    cs = comm_sum(s%cell_steps)
-    nfall = comm_sum(s%fallback_faces)
-    write(line, '(a,i0,a,es14.7,a,i0,a,i0,a)') 'end: step ', s%step, ', time ', s%time, &
-      ', first-order fallback faces ', nfall, ' in all, ', s%first_order_steps, &
+    type(run_facts_t) :: f
+    f = run_facts(s, elapsed, loop, base)
+    write(line, '(a,i0,a,es14.7,a,i0,a,i0,a)') 'end: step ', f%step, ', time ', f%time, &
+      ', first-order fallback faces ', f%fallback_faces, ' in all, ', f%first_order_steps, &
       ' steps recomputed at first order'
     call log_line(line)
-    write(line, '(a,i0,a)') 'end: ', comm_sum(s%cells_low), ' cells recomputed with ' // &
+    write(line, '(a,i0,a)') 'end: ', f%cells_low, ' cells recomputed with ' // &
       'first-order faces by the cell-local fallback'
     call log_line(line)
     if (s%ls%n > 0) then
       write(line, '(a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a)') 'gfm: ', &
-        comm_sum(s%gcount%ghosts), ' ghost fills: ', comm_sum(s%gcount%trilinear), &
-        ' trilinear (', comm_sum(s%gcount%incomplete), ' with an incomplete stencil), ', &
-        comm_sum(s%gcount%least_squares), ' least squares, ', comm_sum(s%gcount%mean), &
-        ' mean of neighbours, ', comm_sum(s%gcount%unfilled), ' without a real neighbour, ', &
-        comm_sum(s%gcount%limited), ' ghost pressures limited'
+        f%gfm%ghosts, ' ghost fills: ', f%gfm%trilinear, &
+        ' trilinear (', f%gfm%incomplete, ' with an incomplete stencil), ', &
+        f%gfm%least_squares, ' least squares, ', f%gfm%mean, &
+        ' mean of neighbours, ', f%gfm%unfilled, ' without a real neighbour, ', &
+        f%gfm%limited, ' ghost pressures limited'
       call log_line(line)
-      write(line, '(a,i0,a,i0,a)') 'gfm: ', comm_sum(s%gcount%mmi), &
+      write(line, '(a,i0,a,i0,a)') 'gfm: ', f%gfm%mmi, &
         ' ghosts across a material-material interface (MMI), ', &
-        comm_sum(s%gcount%separated), ' contact ghosts in tension treated as free surfaces'
+        f%gfm%separated, ' contact ghosts in tension treated as free surfaces'
       call log_line(line)
-      write(line, '(a,i0,a)') 'gfm: ', comm_sum(s%gcount%debris), ' inadmissible cells ' // &
+      write(line, '(a,i0,a)') 'gfm: ', f%gfm%debris, ' inadmissible cells ' // &
         'within 2 cells of a body surface taken out of the body as debris'
       call log_line(line)
       if (s%fix_mass) then
-        write(line, '(a,es11.4,a,f8.4,a,es11.4,a,f8.4,a,i0,a)') 'gfm: conservation fix ' // &
-          'took out ', sum(s%fixed(1, :)), ' kg (', 100 * sum(s%fixed(1, :)) / s%content0(1), &
-          ' % of the solids'' mass) and ', sum(s%fixed(2, :)), ' J (', &
-          100 * sum(s%fixed(2, :)) / s%content0(2), ' % of their energy); ', s%fix_clamped, &
+        write(line, '(a,es11.4,a,f8.4,a,es11.4,a)') 'gfm: conservation fix took out ', &
+          f%fixed(1), ' kg (', f%fixed_percent(1), ' % of the solids'' mass) and ', &
+          f%fixed(2), ' J ('
+        if (s%fix_energy) then
+          write(line, '(a,f8.4,a)') trim(line), f%fixed_percent(2), ' % of their energy); '
+        else
+          line = trim(line) // 'energy part off); '
+        end if
+        write(line, '(a,1x,i0,a)') trim(line), f%fix_clamped, &
           ' fixes held to a tenth of the surface content'
         call log_line(line)
-        write(line, '(a,i0,a)') 'gfm: conservation fix left aside in ', s%fix_aside, &
+        write(line, '(a,i0,a)') 'gfm: conservation fix left aside in ', f%fix_aside, &
           ' steps when a solid crossed an open (outflow) side of the domain'
         call log_line(line)
       end if
-      write(line, '(a,f9.3,a,f9.3,a)') 'gfm: ghost fill ', &
-        comm_max(timer_total(s%timers, 'gfm')), ' s, reinitialisation ', &
-        comm_max(timer_total(s%timers, 'reinit')), ' s'
+      write(line, '(a,f9.3,a,f9.3,a)') 'gfm: ghost fill ', f%gfm_s, ' s, reinitialisation ', &
+        f%reinit_s, ' s'
       call log_line(line)
     end if
-    write(line, '(a,f10.3,a,f9.3,a,f9.3,a,f9.3,a,f9.3,a)') 'wall time ', elapsed, &
-      ' s: fluxes ', comm_max(timer_total(s%timers, 'fluxes')), ' s, halo+bc ', &
-      comm_max(timer_total(s%timers, 'halo')), ' s, dt ', &
-      comm_max(timer_total(s%timers, 'dt')), ' s, output ', &
-      comm_max(timer_total(s%timers, 'output')), ' s'
+    write(line, '(a,f10.3,a,f9.3,a,f9.3,a,f9.3,a,f9.3,a)') 'wall time ', f%wall, &
+      ' s: fluxes ', f%fluxes, ' s, halo+bc ', f%halo, ' s, dt ', f%dt, ' s, output ', &
+      f%output, ' s'
     call log_line(line)
-    write(line, '(a,es11.4,a,es11.4,a)') 'cost: ', real(cs, wp), ' cell-steps, ', &
-      real(cs, wp) / max(elapsed, 1.0e-9_wp) / comm_size(), ' cell-steps per second per rank'
+    write(line, '(a,es11.4,a,es11.4,a)') 'cost: ', real(f%cell_steps, wp), ' cell-steps, ', &
+      real(f%cell_steps, wp) / max(f%wall, 1.0e-9_wp) / comm_size(), &
+      ' cell-steps per second per rank'
     call log_line(line)
-    write(line, '(a,es11.4,a,f10.3,a)') 'loop: ', real(cs, wp), ' cell-steps in ', loop, ' s'
+    write(line, '(a,es11.4,a,f10.3,a)') 'loop: ', real(f%cell_steps, wp), ' cell-steps in ', &
+      f%loop, ' s'
     call log_line(line)
-    ! work per rank: a rank with less waits for the others inside halo+bc
-    work = timer_total(s%timers, 'fluxes') + timer_total(s%timers, 'gfm') + &
-      timer_total(s%timers, 'reinit') + timer_total(s%timers, 'dt')
     write(line, '(a,f10.3,a,f10.3,a)') 'balance: work per rank (fluxes, ghost fill, ' // &
-      'reinitialisation, dt) min ', comm_min(work), ' s, max ', comm_max(work), ' s'
+      'reinitialisation, dt) min ', f%work_min, ' s, max ', f%work_max, ' s'
     call log_line(line)
-    cells = real(count(s%lay%active), wp) * product(s%lay%bsize)
-    peak = comm_sum(memory_kb('VmHWM'))
-    base_sum = comm_sum(base)
-    arrays = 8.0_wp * s%nvar * (product(s%lay%bsize + 2 * s%lay%ng) &
-      + 2 * product(s%lay%bsize)) / product(s%lay%bsize)
-    write(line, '(a,f10.1,a,f10.1,a,f8.1,a)') 'memory: peak resident ', peak / 1024, &
-      ' MB over all ranks (', base_sum / 1024, ' MB before the grid), ', &
-      (peak - base_sum) * 1024 / cells, ' bytes per cell above the baseline'
+    write(line, '(a,f10.1,a,f10.1,a,f8.1,a)') 'memory: peak resident ', f%peak / 1024**2, &
+      ' MB over all ranks (', f%base / 1024**2, ' MB before the grid), ', f%per_cell, &
+      ' bytes per cell above the baseline'
     call log_line(line)
-    write(line, '(a,f8.1,a)') 'memory: solver arrays ', arrays, ' bytes per cell (state with ' // &
-      'halo, start-of-step copy, right-hand side)'
+    write(line, '(a,f8.1,a)') 'memory: solver arrays ', f%arrays_per_cell, ' bytes per ' // &
+      'cell (state with halo, start-of-step copy, right-hand side)'
     call log_line(line)
+    call run_json_write(s, f, trim(s%cfg%out_dir) // '/run.json')
     call log_line('results: ' // trim(s%cfg%out_dir))
   end subroutine write_run_footer
 

@@ -2,13 +2,14 @@
 !>  - fatal(where, what): an error that one rank found; prints and aborts every rank.
 !>  - stop_collective(msg, ok): called by every rank with its own verdict; when any rank
 !>    has ok = .false., the lowest such rank prints its message and all ranks exit(1).
-!> log_line writes to stdout on rank 0 and to the run log once it is open.
+!> log_line writes to stdout on rank 0 and to the run log once it is open; log_flush pushes
+!> both out.
 module m_errors
   use m_kinds, only: line_len, path_len
   use m_comm, only: comm_abort, comm_exit, comm_is_root, comm_minloc_rank, comm_rank
   implicit none
   private
-  public :: fatal, stop_collective, log_open, log_close, log_line
+  public :: fatal, stop_collective, log_open, log_close, log_line, log_flush
 
   integer :: log_unit = 0
   logical :: log_is_open = .false.   !< newunit numbers are negative: keep a flag
@@ -60,5 +61,13 @@ contains
     write(6, '(a)') trim(text)
     if (log_is_open) write(log_unit, '(a)') trim(text)
   end subroutine log_line
+
+  !> Push what log_line wrote to stdout and the run log out now (a progress line must show
+  !> while the run goes on, also when stdout is a pipe).
+  subroutine log_flush()
+    if (.not. comm_is_root()) return
+    flush(6)
+    if (log_is_open) flush(log_unit)
+  end subroutine log_flush
 
 end module m_errors

@@ -5,7 +5,7 @@ module m_timers
   use m_comm, only: comm_wtime
   implicit none
   private
-  public :: timers_t, timer_start, timer_stop, timer_total, memory_kb
+  public :: timers_t, timer_start, timer_stop, timer_total, memory_kb, node_memory_kb
 
   integer, parameter :: max_phases = 16
 
@@ -55,10 +55,24 @@ contains
   !> 'VmRSS' = resident now); 0 where the file does not exist.
   real(wp) function memory_kb(key) result(kb)
     character(len=*), intent(in) :: key
+    kb = proc_value_kb('/proc/self/status', key)
+  end function memory_kb
+
+  !> The memory of the node in kB from /proc/meminfo: 'MemAvailable' (what can be taken
+  !> without swapping, with the page cache that can be dropped) or 'MemTotal'; 0 where the
+  !> file does not exist.
+  real(wp) function node_memory_kb(key) result(kb)
+    character(len=*), intent(in) :: key
+    kb = proc_value_kb('/proc/meminfo', key)
+  end function node_memory_kb
+
+  !> The number after 'key:' in a /proc file of 'key: value kB' lines.
+  real(wp) function proc_value_kb(path, key) result(kb)
+    character(len=*), intent(in) :: path, key
     character(len=256) :: line
     integer :: u, ios, k
     kb = 0.0_wp
-    open(newunit=u, file='/proc/self/status', action='read', iostat=ios)
+    open(newunit=u, file=path, action='read', iostat=ios)
     if (ios /= 0) return
     do
       read(u, '(a)', iostat=ios) line
@@ -70,6 +84,6 @@ contains
       end if
     end do
     close(u)
-  end function memory_kb
+  end function proc_value_kb
 
 end module m_timers

@@ -1,12 +1,14 @@
 !> The input deck (DESIGN section 6): deck_read reads a namelist deck plus command-line
 !> overrides into a config_t, resolved and checked. Every rank parses the same text (read
-!> once by rank 0 and broadcast), so every rank finds the same first error; it is reported
+!> once by rank 0 and broadcast), so every rank finds the same errors; each is reported
 !> as one line
 !>   ERROR <deck file> &<group> <variable>: <reason> (typical value <example>)
-!> before anything is written. The text is split by m_deck_parse; each assignment is checked
-!> by m_deck_values and then read alone into the namelist of its group, whose variables are
-!> locals of one routine per group (no module state; repeated &material and &body groups
-!> start from defaults); m_deck_check then resolves and checks the whole. deck_prepare_output
+!> before anything is written, all of them in one run (a wrong value is skipped and the
+!> reading goes on; m_deck_schema gathers the lines). The text is split by m_deck_parse;
+!> each assignment is checked by m_deck_values and then read alone into the namelist of its
+!> group, whose variables are locals of one routine per group (no module state; repeated
+!> &material and &body groups start from defaults); m_deck_check then resolves and checks
+!> the whole. deck_prepare_output
 !> and deck_write_resolved (m_deck_write) are passed on, so that the driver needs only this
 !> module. It does not interpret the physics: what a material or shape means is for eos/,
 !> scene/.
@@ -21,7 +23,7 @@ module m_deck
   use m_deck_values, only: var_info_t, check_value
   use m_deck_schema, only: known_groups, run_vars, domain_vars, numerics_vars, physics_vars, &
     material_vars, body_vars, output_vars, fail, error_line, group_vars, group_var, group_of, &
-    var_index
+    var_index, fail_now, deck_errors_begin, deck_errors_stop, deck_error_mark
   use m_deck_check, only: deck_check
   use m_deck_write, only: deck_prepare_output, deck_write_resolved
   implicit none
@@ -42,6 +44,7 @@ contains
     integer :: n_groups
     logical :: ok
 
+    call deck_errors_begin()
     base = base_name(path)
     text = ''
     msg = ''
@@ -54,9 +57,9 @@ contains
     call deck_split(text, groups, n_groups, err_group, err_what)
     if (len(err_what) > 0) then
       if (len(err_group) > 0) then
-        call fail(base, '&' // err_group, err_what, '')
+        call fail_now(base, '&' // err_group, err_what, '')
       else
-        call fail(base, '', err_what, '')
+        call fail_now(base, '', err_what, '')
       end if
     end if
     call apply_overrides(base, overrides, groups, n_groups)
@@ -65,6 +68,7 @@ contains
     cfg%block = 0
     call read_groups(base, groups, n_groups, cfg)
     call deck_check(base, groups, n_groups, cfg)
+    call deck_errors_stop()
   end subroutine deck_read
 
   subroutine read_text_file(path, text, ok, msg)
@@ -106,24 +110,35 @@ contains
       eq = index(ov, '=')
       dot = 0
       if (eq > 1) dot = index(ov(1:eq - 1), '.')
-      if (dot <= 1 .or. dot >= eq - 1) call fail(base, '', "bad command-line override '" &
-        // ov // "' (expected group.variable=value such as run.out_dir='out/x')", '')
+      if (dot <= 1 .or. dot >= eq - 1) then
+        call fail(base, '', "bad command-line override '" // ov &
+          // "' (expected group.variable=value such as run.out_dir='out/x')", '')
+        cycle
+      end if
       gname = to_lower(trim(ov(1:dot - 1)))
       lhs = trim(adjustl(ov(dot + 1:eq - 1)))
       paren = index(lhs, '(')
       if (paren > 0) then
         a%name = to_lower(trim(lhs(1:paren - 1)))
         a%index = lhs(paren:)
-        if (lhs(len(lhs):len(lhs)) /= ')') call fail(base, '', "bad command-line override '" &
-          // ov // "' (an index is written cells(2)=100)", '')
+        if (lhs(len(lhs):len(lhs)) /= ')') then
+          call fail(base, '', "bad command-line override '" // ov &
+            // "' (an index is written cells(2)=100)", '')
+          cycle
+        end if
       else
         a%name = to_lower(lhs)
         a%index = ''
       end if
-      if (.not. in_list(gname, known_groups)) &
+      if (.not. in_list(gname, known_groups)) then
         call fail(base, '&' // gname, 'unknown group (known: ' // known_groups // ')', '')
+        cycle
+      end if
       k = var_index(group_vars(gname), a%name)
-      if (k == 0) call fail_unknown_var(base, gname, a%name, group_vars(gname))
+      if (k == 0) then
+        call fail_unknown_var(base, gname, a%name, group_vars(gname))
+        cycle
+      end if
       a%value = trim(adjustl(ov(eq + 1:)))
       info = group_var(gname, k)
       if (info%kind == 'c') a%value = auto_quote(a%value)
@@ -189,18 +204,19 @@ contains
       case ('output')
         call read_output(base, groups(i), cfg)
       case ('material')
-        if (cfg%n_materials == max_materials) call fail(base, '&material', 'more than ' &
+        if (cfg%n_materials == max_materials) call fail_now(base, '&material', 'more than ' &
           // int_text(max_materials) // ' &material groups (max_materials of m_config)', '')
         cfg%n_materials = cfg%n_materials + 1
         call read_material(base, groups(i), cfg%materials(cfg%n_materials))
       case ('body')
-        if (cfg%n_bodies == max_bodies) call fail(base, '&body', 'more than ' &
+        if (cfg%n_bodies == max_bodies) call fail_now(base, '&body', 'more than ' &
           // int_text(max_bodies) // ' &body groups (max_bodies of m_config)', '')
         cfg%n_bodies = cfg%n_bodies + 1
         call read_body(base, groups(i), cfg%bodies(cfg%n_bodies))
       case default
         call fail(base, '&' // groups(i)%name, 'unknown group (known: ' // known_groups &
           // ')', '')
+        call mark_meant_group(groups(i)%name)
       end select
     end do
   end subroutine read_groups
@@ -226,6 +242,7 @@ contains
     restart = cfg%restart
     do k = 1, g%n
       rec = checked_record(base, g%name, run_vars, g%assign(k))
+      if (len(rec) == 0) cycle
       read(rec, nml=run, iostat=ios, iomsg=msg)
       call check_read(base, g%name, run_vars, g%assign(k), ios, msg)
     end do
@@ -262,6 +279,7 @@ contains
     base_material = cfg%base_material
     do k = 1, g%n
       rec = checked_record(base, g%name, domain_vars, g%assign(k))
+      if (len(rec) == 0) cycle
       read(rec, nml=domain, iostat=ios, iomsg=msg)
       call check_read(base, g%name, domain_vars, g%assign(k), ios, msg)
     end do
@@ -303,6 +321,7 @@ contains
     contact_kappa = cfg%contact_kappa
     do k = 1, g%n
       rec = checked_record(base, g%name, numerics_vars, g%assign(k))
+      if (len(rec) == 0) cycle
       read(rec, nml=numerics, iostat=ios, iomsg=msg)
       call check_read(base, g%name, numerics_vars, g%assign(k), ios, msg)
     end do
@@ -335,6 +354,7 @@ contains
     reaction = cfg%reaction
     do k = 1, g%n
       rec = checked_record(base, g%name, physics_vars, g%assign(k))
+      if (len(rec) == 0) cycle
       read(rec, nml=physics, iostat=ios, iomsg=msg)
       call check_read(base, g%name, physics_vars, g%assign(k), ios, msg)
     end do
@@ -361,6 +381,7 @@ contains
     fields = cfg%fields
     do k = 1, g%n
       rec = checked_record(base, g%name, output_vars, g%assign(k))
+      if (len(rec) == 0) cycle
       read(rec, nml=output, iostat=ios, iomsg=msg)
       call check_read(base, g%name, output_vars, g%assign(k), ios, msg)
     end do
@@ -425,6 +446,7 @@ contains
       do k = 1, g%n
         if ((g%assign(k)%name == 'name') .neqv. (pass == 1)) cycle
         rec = checked_record(base, g%name, material_vars, g%assign(k))
+        if (len(rec) == 0) cycle
         read(rec, nml=material, iostat=ios, iomsg=msg)
         call check_read(base, g%name, material_vars, g%assign(k), ios, msg)
       end do
@@ -488,6 +510,7 @@ contains
     wavevector = this%wavevector
     do k = 1, g%n
       rec = checked_record(base, g%name, body_vars, g%assign(k))
+      if (len(rec) == 0) cycle
       read(rec, nml=body, iostat=ios, iomsg=msg)
       call check_read(base, g%name, body_vars, g%assign(k), ios, msg)
     end do
@@ -509,18 +532,26 @@ contains
   end subroutine read_body
 
   !> The namelist record `&group name(index) = value /` of one assignment, once the name
-  !> is known to the group and the value has the form of the variable.
+  !> is known to the group and the value has the form of the variable; '' (the error
+  !> recorded) otherwise.
   function checked_record(base, gname, vars, a) result(rec)
     character(len=*), intent(in) :: base, gname
     type(var_info_t), intent(in) :: vars(:)
     type(deck_assign_t), intent(in) :: a
     character(len=:), allocatable :: rec, why
     integer :: k
+    rec = ''
     k = var_index(vars, a%name)
-    if (k == 0) call fail_unknown_var(base, gname, a%name, vars)
+    if (k == 0) then
+      call fail_unknown_var(base, gname, a%name, vars)
+      return
+    end if
     why = check_value(vars(k), a%index, a%value)
-    if (len(why) > 0) call fail(base, '&' // gname // ' ' // trim(vars(k)%name) // a%index, &
-      why // at_line(a%line), vars(k)%typical)
+    if (len(why) > 0) then
+      call fail(base, '&' // gname // ' ' // trim(vars(k)%name) // a%index, &
+        why // at_line(a%line), vars(k)%typical)
+      return
+    end if
     rec = '&' // gname // ' ' // a%name // a%index // ' = ' // a%value // ' /'
   end function checked_record
 
@@ -535,6 +566,22 @@ contains
     call fail(base, '&' // gname // ' ' // trim(vars(k)%name) // a%index, 'cannot read ' &
       // a%value // at_line(a%line) // ' (' // trim(msg) // ')', vars(k)%typical)
   end subroutine check_read
+
+  !> A misspelled group (&domian) is the group it was meant to be: the values missing there
+  !> are the same mistake.
+  subroutine mark_meant_group(name)
+    character(len=*), intent(in) :: name
+    character(len=:), allocatable :: rest, known
+    integer :: c
+    rest = known_groups // ','
+    do
+      c = index(rest, ',')
+      if (c == 0) exit
+      known = trim(adjustl(rest(1:c - 1)))
+      rest = rest(c + 1:)
+      if (edit_distance(name, known) <= 2) call deck_error_mark('&' // known // ' *')
+    end do
+  end subroutine mark_meant_group
 
   subroutine fail_unknown_var(base, gname, name, vars)
     character(len=*), intent(in) :: base, gname, name
@@ -563,6 +610,8 @@ contains
       why = why // ')'
     end if
     call fail(base, '&' // gname // ' ' // name, why, '')
+    ! the variable meant is then missing, but that is the same mistake
+    if (best > 0) call deck_error_mark('&' // gname // ' ' // to_lower(trim(vars(best)%name)))
   end subroutine fail_unknown_var
 
   function at_line(line) result(r)

@@ -6,9 +6,11 @@
 !> eps_rate0 (1 /s) to their usual values where its model uses them; the &physics switches
 !> strength and thermal, when the deck leaves them out, are on exactly when a material in
 !> use needs them (manual/materials.md). Every value is checked against its range or its
-!> list of choices, and the first violation stops every rank with one line naming group,
-!> variable and a typical value. It does not read the deck (m_deck) and does not interpret
-!> the physics: what a material or a shape means is for eos/, strength/ and scene/.
+!> list of choices, and each violation is recorded as one line naming group, variable and a
+!> typical value (m_deck_schema); checks that would only repeat an error already found (the
+!> values an unknown eos needs, the cells of an unknown ndim) are left out. It does not
+!> read the deck (m_deck) and does not interpret the physics: what a material or a shape
+!> means is for eos/, strength/ and scene/.
 module m_deck_check
   use m_kinds, only: wp, name_len
   use m_config, only: config_t, material_t, is_set, max_materials, max_fields, material_index
@@ -16,7 +18,7 @@ module m_deck_check
   use m_yield, only: strength_problem, strength_from_material
   use m_deck_text, only: int_text, real_text, in_list
   use m_deck_parse, only: deck_group_t
-  use m_deck_schema, only: fail, bad
+  use m_deck_schema, only: fail, bad, deck_error_count, deck_has_error, deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
   implicit none
   private
@@ -57,7 +59,7 @@ module m_deck_check
 contains
 
   !> Resolve and check cfg as read from groups; the checks run in a fixed order, so the
-  !> error reported is always the first one found in that order. Collective.
+  !> errors are always reported in that order.
   subroutine deck_check(base, groups, n_groups, cfg)
     character(len=*), intent(in) :: base
     type(deck_group_t), intent(in) :: groups(:)
@@ -68,6 +70,7 @@ contains
     call check_numerics(base, cfg)
     call check_output(base, cfg)
     call check_materials(base, cfg)
+    call check_gas_needs(base, groups, n_groups, cfg)
     call check_physics(base, groups, n_groups, cfg)
     call check_bodies(base, cfg)
     call numerics_defaults(cfg, cfg%numerics_note)
@@ -105,8 +108,13 @@ contains
     nd = cfg%ndim
     if (.not. given(groups, n_groups, 'domain', 'ndim')) &
       call bad(base, 'domain', 'ndim', 'missing required value')
+    ! without a &domain group at all, its other required values are the same mistake
+    if (.not. any([(groups(d)%name == 'domain', d = 1, n_groups)])) &
+      call deck_error_mark('&domain *')
     if (nd < 1 .or. nd > 3) call bad(base, 'domain', 'ndim', 'must be 1, 2 or 3, got ' &
       // int_text(nd))
+    ! the directions, cells and blocks mean nothing without a valid ndim
+    if (deck_has_error('&domain ndim')) return
     nd_text = 'ndim = ' // int_text(nd)
     call check_choice(base, 'domain', 'geometry', cfg%geometry, geometries)
     if (cfg%geometry == 'axisymmetric') then
@@ -141,6 +149,8 @@ contains
       write(dd, '(a,i1,a)') '(', d, ')'
       if (d > nd) then
         cfg%block(d) = 1
+      else if (deck_has_error('&domain cells')) then
+        cycle
       else if (cfg%block(d) == 0) then
         cfg%block(d) = default_block(cfg%cells(d), nd)
       else if (cfg%block(d) < min_block) then
@@ -164,7 +174,8 @@ contains
         // dd // " = '" // trim(cfg%bc_lo(d)) // "' but bc_hi" // dd // " = '" &
         // trim(cfg%bc_hi(d)) // "' (both or neither must be 'periodic')")
     end do
-    if (cfg%geometry == 'axisymmetric' .and. .not. cfg%lo(1) > 0.0_wp) then
+    if (cfg%geometry == 'axisymmetric' .and. .not. cfg%lo(1) > 0.0_wp &
+      .and. .not. deck_has_error('&domain lo')) then
       if (cfg%bc_lo(1) /= 'symmetry') call bad(base, 'domain', 'bc_lo(1)', &
         "must be 'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), got '" &
         // trim(cfg%bc_lo(1)) // "'")
@@ -281,7 +292,10 @@ contains
     type(material_t), intent(inout) :: m
     character(len=17) :: needs(8)
     character(len=:), allocatable :: in_m, model, why
-    integer :: k, n_needs
+    integer :: k, n_needs, n_before, n_start
+    n_start = deck_error_count()
+    ! a name that could not be read: which material this is, and so its values, is unknown
+    if (len_trim(m%name) == 0 .and. deck_has_error('&material name')) return
     if (len_trim(m%name) == 0) call bad(base, 'material', 'name', 'missing required value')
     in_m = " in material '" // trim(m%name) // "'"
     if (.not. valid_name(m%name)) call bad(base, 'material', 'name', "'" // trim(m%name) &
@@ -292,12 +306,13 @@ contains
       // in_m)
     call check_choice(base, 'material', 'eos', m%eos, eoses)
     select case (m%eos)
+    ! a gas's rho0, p0 and cv are asked for only where the scene uses them (check_gas_needs)
     case ('ideal_gas')
-      n_needs = 4
-      needs(1:n_needs) = [character(len=17) :: 'rho0', 'p0', 'gamma', 'cv']
+      n_needs = 1
+      needs(1:n_needs) = [character(len=17) :: 'gamma']
     case ('stiffened_gas')
-      n_needs = 5
-      needs(1:n_needs) = [character(len=17) :: 'rho0', 'p0', 'gamma', 'p_inf', 'cv']
+      n_needs = 2
+      needs(1:n_needs) = [character(len=17) :: 'gamma', 'p_inf']
     case ('mie_gruneisen')
       n_needs = 7
       needs(1:n_needs) = [character(len=17) :: 'rho0', 'p0', 'c0', 's', 'gruneisen', 'cv', &
@@ -307,6 +322,8 @@ contains
       needs(1:n_needs) = [character(len=17) :: 'rho0', 'p0', 'bulk_modulus', 'poly_a', &
         'poly_b', 'gruneisen', 'cv', 'T0']
     end select
+    ! an unknown or missing eos needs nothing more
+    if (deck_error_count() > n_start) n_needs = 0
     do k = 1, n_needs
       if (.not. is_set(material_value(m, needs(k)))) call bad(base, 'material', &
         trim(needs(k)), "missing required value for eos '" // trim(m%eos) // "'" // in_m)
@@ -333,6 +350,7 @@ contains
       end do
       m%strength_model = 'none'
     end if
+    n_before = deck_error_count()
     call check_choice(base, 'material', 'strength_model', m%strength_model, strength_models)
     model = trim(m%strength_model)
     if (model /= 'none' .and. in_list(m%eos, gas_eoses)) call bad(base, 'material', &
@@ -363,6 +381,7 @@ contains
       needs(1:n_needs) = [character(len=17) :: 'shear_modulus', 'yield0', 'vp_chi', 'vp_m', &
         'vp_n']
     end select
+    if (deck_error_count() > n_before) n_needs = 0
     do k = 1, n_needs
       if (.not. is_set(material_value(m, needs(k)))) call bad(base, 'material', &
         trim(needs(k)), "missing required value for strength_model '" // model // "'" // in_m)
@@ -393,6 +412,7 @@ contains
         // 'that heats)' // in_m // ', got ' // real_text(m%taylor_quinney))
     end if
     ! the strength modules' own test of the parameters, should it know more than the above
+    if (deck_error_count() > n_start) return
     why = strength_problem(strength_from_material(m))
     if (len_trim(why) > 0) call bad(base, 'material', 'strength_model', trim(why) // in_m)
 
@@ -416,6 +436,143 @@ contains
     end subroutine at_least
 
   end subroutine check_material
+
+  !> What a gas in use needs besides its eos constants, asked for only where the scene uses
+  !> it: cv where a temperature is used (the output field T, a body given by T; left out of
+  !> the default fields otherwise); rho0 (p0) where the gas fills cells whose state no body
+  !> gives: a body of it without rho (without p or T), the base material outside boxes of
+  !> it that tile the domain, and every phase of a scene with level sets (the rest state of
+  !> cells beyond a phase's region).
+  subroutine check_gas_needs(base, groups, n_groups, cfg)
+    character(len=*), intent(in) :: base
+    type(deck_group_t), intent(in) :: groups(:)
+    integer, intent(in) :: n_groups
+    type(config_t), intent(inout) :: cfg
+    character(len=:), allocatable :: in_m, why_t, why_rho, why_p
+    logical :: fields_given, interfaces, drop_t
+    integer :: k, i
+    fields_given = given(groups, n_groups, 'output', 'fields')
+    interfaces = any([(cfg%bodies(i)%material /= cfg%base_material, i = 1, cfg%n_bodies)])
+    drop_t = .false.
+    do k = 1, cfg%n_materials
+      associate(m => cfg%materials(k))
+        if (.not. in_list(m%eos, gas_eoses) .or. .not. material_used(cfg, m%name)) cycle
+        in_m = " in material '" // trim(m%name) // "'"
+        why_t = ''
+        why_rho = ''
+        why_p = ''
+        if (fields_given .and. any(cfg%fields(1:cfg%n_fields) == 'T')) &
+          why_t = 'the output field T'
+        if (interfaces) then
+          why_rho = 'the rest state of a scene with level sets'
+          why_p = why_rho
+        end if
+        if (m%name == cfg%base_material .and. .not. base_covered(cfg)) then
+          why_rho = 'the base material outside its bodies'
+          why_p = why_rho
+        end if
+        do i = 1, cfg%n_bodies
+          associate(b => cfg%bodies(i))
+            if (b%material /= m%name) cycle
+            if (is_set(b%T)) why_t = "body '" // trim(b%name) // "', given by T"
+            if (.not. is_set(b%rho)) why_rho = "body '" // trim(b%name) // "' without rho"
+            if (.not. is_set(b%p) .and. .not. is_set(b%T)) &
+              why_p = "body '" // trim(b%name) // "' without p or T"
+          end associate
+        end do
+        if (.not. is_set(m%cv) .and. len(why_t) > 0) call bad(base, 'material', 'cv', &
+          "missing required value for eos '" // trim(m%eos) // "'" // in_m // ' (' // why_t &
+          // ' needs a temperature)')
+        if (.not. is_set(m%cv)) drop_t = .true.
+        if (.not. is_set(m%rho0) .and. len(why_rho) > 0) call bad(base, 'material', 'rho0', &
+          "missing required value for eos '" // trim(m%eos) // "'" // in_m // ' (for ' &
+          // why_rho // ')')
+        if (.not. is_set(m%p0) .and. len(why_p) > 0) call bad(base, 'material', 'p0', &
+          "missing required value for eos '" // trim(m%eos) // "'" // in_m // ' (for ' &
+          // why_p // ')')
+      end associate
+    end do
+    ! the default fields without a temperature that some gas in use cannot give
+    if (drop_t .and. .not. fields_given) then
+      cfg%fields(1:cfg%n_fields - 1) = pack(cfg%fields(1:cfg%n_fields), &
+        cfg%fields(1:cfg%n_fields) /= 'T')
+      cfg%fields(cfg%n_fields) = ''
+      cfg%n_fields = cfg%n_fields - 1
+    end if
+  end subroutine check_gas_needs
+
+  !> Whether the boxes of the base material (bodies that only set its initial state) cover
+  !> the whole domain: every cell of the grid that the boxes' faces make is inside one.
+  pure logical function base_covered(cfg) result(covered)
+    type(config_t), intent(in) :: cfg
+    real(wp) :: edges(2 * cfg%n_bodies + 2, 3), x(3)
+    integer :: n(3), d, i, c(3), ii, jj, kk
+    logical :: inside
+    covered = .false.
+    n = 1
+    do d = 1, cfg%ndim
+      edges(1:2, d) = [cfg%lo(d), cfg%hi(d)]
+      n(d) = 2
+      do i = 1, cfg%n_bodies
+        associate(b => cfg%bodies(i))
+          if (b%material /= cfg%base_material .or. b%shape /= 'box') cycle
+          edges(n(d) + 1:n(d) + 2, d) = [max(cfg%lo(d), min(cfg%hi(d), b%lo(d))), &
+            max(cfg%lo(d), min(cfg%hi(d), b%hi(d)))]
+          n(d) = n(d) + 2
+        end associate
+      end do
+      n(d) = n(d) - 1
+    end do
+    do d = cfg%ndim + 1, 3
+      edges(1:2, d) = [cfg%lo(d), cfg%hi(d)]
+    end do
+    do kk = 1, n(3)
+      do jj = 1, n(2)
+        do ii = 1, n(1)
+          c = [ii, jj, kk]
+          ! the centre of the span between two neighbouring edges (sorted on the fly)
+          do d = 1, 3
+            x(d) = span_centre(edges(1:n(d) + 1, d), c(d))
+          end do
+          if (.not. all(x(1:cfg%ndim) > cfg%lo(1:cfg%ndim))) cycle   ! an empty span
+          inside = .false.
+          do i = 1, cfg%n_bodies
+            associate(b => cfg%bodies(i))
+              if (b%material /= cfg%base_material .or. b%shape /= 'box') cycle
+              if (all(x(1:cfg%ndim) > b%lo(1:cfg%ndim) .and. x(1:cfg%ndim) < b%hi(1:cfg%ndim))) &
+                inside = .true.
+            end associate
+          end do
+          if (.not. inside) return
+        end do
+      end do
+    end do
+    covered = .true.
+
+  contains
+
+    !> the midpoint between the c-th and (c+1)-th smallest of e, or lo - 1 when they are equal
+    pure real(wp) function span_centre(e, c) result(xc)
+      real(wp), intent(in) :: e(:)
+      integer, intent(in) :: c
+      real(wp) :: s(size(e)), t
+      integer :: p, q
+      s = e
+      do p = 2, size(s)
+        t = s(p)
+        q = p - 1
+        do while (q >= 1)
+          if (s(q) <= t) exit
+          s(q + 1) = s(q)
+          q = q - 1
+        end do
+        s(q + 1) = t
+      end do
+      xc = 0.5_wp * (s(c) + s(c + 1))
+      if (.not. s(c + 1) > s(c)) xc = -huge(1.0_wp)
+    end function span_centre
+
+  end function base_covered
 
   !> The &physics switches strength and thermal. Left out, each is on exactly when a
   !> material in use (the base material or a body's) needs it: strength when one has a
@@ -480,7 +637,7 @@ contains
   end subroutine check_physics
 
   !> Whether the base material or a body uses the material called name.
-  logical function material_used(cfg, name)
+  pure logical function material_used(cfg, name)
     type(config_t), intent(in) :: cfg
     character(len=*), intent(in) :: name
     integer :: i
@@ -557,11 +714,14 @@ contains
           'must lie in (-1, 1) so that rho (1 + amplitude sin(2 pi k.x)) stays > 0' // in_b &
           // ', got ' // real_text(b%amplitude))
         if (b%material == 'void' .or. b%material == 'rigid') cycle
+        if (material_index(cfg, b%material) == 0) cycle   ! an error already
         m = cfg%materials(material_index(cfg, b%material))
         if (is_set(b%p) .and. is_set(b%T)) call bad(base, 'body', 'T', &
           'set p or T' // in_b // ', not both')
         if (.not. is_set(b%rho)) b%rho = m%rho0
         if (.not. is_set(b%p) .and. .not. is_set(b%T)) b%p = m%p0
+        ! a gas without the rho0 or p0 that the body takes: reported by check_gas_needs
+        if (.not. is_set(b%rho) .or. .not. (is_set(b%p) .or. is_set(b%T))) cycle
         if (.not. b%rho > 0.0_wp) call bad(base, 'body', 'rho', 'must be > 0' // in_b &
           // ', got ' // real_text(b%rho))
         if (is_set(b%T)) then

@@ -1,9 +1,14 @@
 !> What a deck may hold (DESIGN section 6): its groups, and the variables of each with
 !> kind, size and a typical value; and the one-line error that names them,
-!>   ERROR <deck file> &<group> <variable>: <reason> (typical value <example>),
-!> raised on every rank at once (every rank parses the same text, so every rank meets the
-!> same first error). It neither reads values (m_deck) nor judges what they mean
-!> (m_deck_check).
+!>   ERROR <deck file> &<group> <variable>: <reason> (typical value <example>).
+!> A deck's errors are gathered in one pass: fail() records a line and returns, so that
+!> the reader and the checks go on and find the other mistakes; deck_errors_stop() then
+!> prints every line and stops every rank (every rank parses the same text, so every rank
+!> holds the same lines). A variable that has had an error gets no second one (a bad value
+!> left at its default would otherwise also be "missing"). fail_now() is for an error after
+!> which nothing more can be read (a syntax error). The list is module state, emptied by
+!> deck_errors_begin() at the start of every deck read. It neither reads values (m_deck) nor
+!> judges what they mean (m_deck_check).
 module m_deck_schema
   use m_kinds, only: name_len, path_len
   use m_config, only: max_fields
@@ -15,6 +20,8 @@ module m_deck_schema
   public :: known_groups, run_vars, domain_vars, numerics_vars, physics_vars, material_vars, &
     body_vars, output_vars
   public :: fail, error_line, bad, group_vars, group_var, group_of, var_index
+  public :: fail_now, deck_errors_begin, deck_errors_stop, deck_error_count, deck_error_mark, &
+    deck_has_error
 
   character(len=*), parameter :: known_groups = &
     'run, domain, numerics, physics, material, body, output'
@@ -108,13 +115,82 @@ module m_deck_schema
     var_info_t('history_every', 'i', 1, 0, '10'), &
     var_info_t('fields', 'c', max_fields, name_len, "'rho', 'u', 'p'")]
 
+  !> the deck errors found so far (lines), and the variables they name ('&group var',
+  !> without an index), which get no second error
+  character(len=:), allocatable :: err_text
+  character(len=:), allocatable :: err_keys
+  integer :: n_errors = 0
+
 contains
 
-  !> Stop every rank with `ERROR <base> <where>: <why> (typical value <typical>)`.
+  !> Start a deck read with no errors.
+  subroutine deck_errors_begin()
+    err_text = ''
+    err_keys = '|'
+    n_errors = 0
+  end subroutine deck_errors_begin
+
+  !> Record `ERROR <base> <where>: <why> (typical value <typical>)` and return, unless the
+  !> variable of `where` has had an error already.
   subroutine fail(base, where, why, typical)
     character(len=*), intent(in) :: base, where, why, typical
-    call stop_collective(error_line(base, where, why, typical), .false.)
+    if (.not. allocated(err_text)) call deck_errors_begin()
+    if (deck_has_error(where)) return
+    call deck_error_mark(where)
+    if (n_errors > 0) err_text = err_text // new_line('a')
+    err_text = err_text // error_line(base, where, why, typical)
+    n_errors = n_errors + 1
   end subroutine fail
+
+  !> fail(), then stop every rank with every error found so far.
+  subroutine fail_now(base, where, why, typical)
+    character(len=*), intent(in) :: base, where, why, typical
+    call fail(base, where, why, typical)
+    call deck_errors_stop()
+  end subroutine fail_now
+
+  !> Collective: when errors were found, print them, one a line, and stop every rank.
+  subroutine deck_errors_stop()
+    if (.not. allocated(err_text)) return
+    call stop_collective(err_text, n_errors == 0)
+  end subroutine deck_errors_stop
+
+  integer function deck_error_count() result(n)
+    n = n_errors
+  end function deck_error_count
+
+  !> '&group var' of where (an index or a trailing word dropped), or '' outside a group.
+  function error_key(where) result(key)
+    character(len=*), intent(in) :: where
+    character(len=:), allocatable :: key
+    integer :: paren
+    key = to_lower(trim(adjustl(where)))
+    paren = index(key, '(')
+    if (paren > 0) key = key(1:paren - 1)
+  end function error_key
+
+  !> Take the variable of where ('&group var') as wrong: it gets no error of its own later.
+  !> '&group *' takes every variable of the group (a group missing or misspelled).
+  subroutine deck_error_mark(where)
+    character(len=*), intent(in) :: where
+    if (.not. allocated(err_keys)) call deck_errors_begin()
+    if (index(error_key(where), ' ') == 0) return
+    if (.not. deck_has_error(where)) err_keys = err_keys // error_key(where) // '|'
+  end subroutine deck_error_mark
+
+  !> Whether the variable of where ('&group var') has had an error, or its whole group.
+  logical function deck_has_error(where) result(has)
+    character(len=*), intent(in) :: where
+    character(len=:), allocatable :: key
+    integer :: blank
+    has = .false.
+    if (.not. allocated(err_keys)) return
+    key = error_key(where)
+    blank = index(key, ' ')
+    if (blank == 0) return
+    has = index(err_keys, '|' // key // '|') > 0 .or. &
+      index(err_keys, '|' // key(1:blank) // '*|') > 0
+  end function deck_has_error
 
   !> `ERROR <base> <where>: <why> (typical value <typical>)`, without `<where>` or the
   !> parenthesis when they are blank.

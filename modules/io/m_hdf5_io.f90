@@ -12,7 +12,7 @@
 !> knows nothing of physics or of which fields exist; the XDMF companion file is m_xdmf's.
 module m_hdf5_io
   use hdf5, only: hid_t, hsize_t, size_t, h5open_f, h5close_f, h5eset_auto_f, &
-    h5fcreate_f, h5fopen_f, h5fclose_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, &
+    h5fcreate_f, h5fopen_f, h5fclose_f, h5fis_hdf5_f, H5F_ACC_TRUNC_F, H5F_ACC_RDONLY_F, &
     h5pcreate_f, h5pclose_f, h5pset_fapl_mpio_f, h5pset_fill_value_f, &
     h5pset_create_inter_group_f, H5P_FILE_ACCESS_F, H5P_DATASET_CREATE_F, H5P_LINK_CREATE_F, &
     h5screate_f, h5screate_simple_f, h5sclose_f, h5sselect_hyperslab_f, &
@@ -32,7 +32,7 @@ module m_hdf5_io
   private
   public :: h5_file_t, h5_init, h5_finalize, h5_create, h5_open_read, h5_close
   public :: h5_write_attr, h5_read_attr, h5_write_field, h5_read_field
-  public :: h5_write_text, h5_read_text, h5_exists, h5_has_attr
+  public :: h5_write_text, h5_read_text, h5_exists, h5_has_attr, h5_is_hdf5
 
   character(len=*), parameter :: here = 'm_hdf5_io'
 
@@ -122,6 +122,19 @@ contains
     if (err < 0 .or. f%id < 0) call fatal(here, 'cannot open ' // f%path // &
       ': it is not a readable HDF5 file (truncated by a crash? wrong file?)')
   end subroutine h5_open_read
+
+  !> Whether path is an HDF5 file (false for a missing or another kind of file); opens
+  !> nothing, so that a wrong file can be refused before any output is written.
+  logical function h5_is_hdf5(path) result(is_hdf5)
+    character(len=*), intent(in) :: path
+    integer :: err
+    logical :: found
+    is_hdf5 = .false.
+    inquire(file=trim(path), exist=found)
+    if (.not. found) return
+    call h5fis_hdf5_f(trim(path), is_hdf5, err)
+    is_hdf5 = is_hdf5 .and. err >= 0
+  end function h5_is_hdf5
 
   !> Close a file collectively; closing a file that is not open does nothing.
   subroutine h5_close(f)

@@ -10,7 +10,7 @@ module m_comm
   private
   public :: comm_init, comm_finalize, comm_rank, comm_size, comm_is_root, comm_barrier
   public :: comm_min, comm_max, comm_sum, comm_sum_array, comm_any, comm_minloc_rank
-  public :: comm_bcast, comm_abort, comm_exit, comm_wtime, comm_world_handles
+  public :: comm_bcast, comm_abort, comm_exit, comm_wtime, comm_world_handles, comm_node_ranks
   public :: comm_exchange_t, exchange_start, exchange_wait
 
   integer :: my_rank = 0
@@ -86,6 +86,21 @@ contains
     comm = MPI_COMM_WORLD%mpi_val
     info = MPI_INFO_NULL%mpi_val
   end subroutine comm_world_handles
+
+  !> The ranks that share this rank's node (its shared-memory domain), and whether this
+  !> rank is the lowest of them: the one that speaks for the node's memory.
+  subroutine comm_node_ranks(n, leader)
+    integer, intent(out) :: n
+    logical, intent(out) :: leader
+    type(MPI_Comm) :: node
+    integer :: me, ierr
+    call MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, my_rank, MPI_INFO_NULL, &
+      node, ierr)
+    call MPI_Comm_size(node, n, ierr)
+    call MPI_Comm_rank(node, me, ierr)
+    leader = (me == 0)
+    call MPI_Comm_free(node, ierr)
+  end subroutine comm_node_ranks
 
   real(wp) function comm_wtime()
     comm_wtime = MPI_Wtime()

@@ -1,0 +1,371 @@
+!> What a run tells its user besides its fields (manual/user-guide.md, "Output"): the
+!> progress line printed while it runs, the facts gathered at its end (counts, timings,
+!> memory, fallback and conservation-fix figures, reduced over the ranks once) that run.log's
+!> last lines print, and run.json, the same facts for tools to read. The effects' reasons
+!> that run.log's header gives are made here too, so that run.log and run.json say the same.
+!> It neither runs the loop (m_timeloop) nor writes fields (m_output).
+module m_run_report
+  use, intrinsic :: iso_fortran_env, only: compiler_version, compiler_options
+  use m_kinds, only: wp, i8, line_len
+  use m_simulation, only: sim_t, mem_parts
+  use m_gfm, only: gfm_counts_t
+  use m_comm, only: comm_sum, comm_min, comm_max, comm_size, comm_wtime, comm_is_root
+  use m_errors, only: log_line, log_flush
+  use m_timers, only: timer_total, memory_kb
+  use m_json, only: json_t, json_begin, json_end, json_object, json_close, json_put, &
+    json_put_array, json_write
+  implicit none
+  private
+  public :: progress_t, progress_start, progress_report
+  public :: run_facts_t, run_facts, run_json_write, thermal_reason, interfaces_reason
+
+  !> seconds of wall time between progress lines
+  real(wp), parameter :: progress_every = 30.0_wp
+
+  !> the clock of the progress line: where the loop started and when the last line went out
+  type :: progress_t
+    real(wp) :: wall0 = 0.0_wp, last = 0.0_wp, time0 = 0.0_wp
+    integer :: step0 = 0
+  end type progress_t
+
+  !> the facts of a finished run, reduced over the ranks (the same on every rank)
+  type :: run_facts_t
+    integer :: step = 0, first_order_steps = 0, fix_clamped = 0, fix_aside = 0
+    integer :: blocks_min = 0, blocks_max = 0   !< blocks per rank
+    real(wp) :: time = 0.0_wp
+    integer(i8) :: cell_steps = 0, fallback_faces = 0, cells_low = 0
+    type(gfm_counts_t) :: gfm
+    real(wp) :: gfm_s = 0.0_wp, reinit_s = 0.0_wp
+    !> mass (kg) and energy (J) that the conservation fix took out, and as per cent of the
+    !> solids' content at the start (NaN where that part is off)
+    real(wp) :: fixed(2) = 0.0_wp, fixed_percent(2) = 0.0_wp
+    real(wp) :: wall = 0.0_wp, loop = 0.0_wp, fluxes = 0.0_wp, halo = 0.0_wp, dt = 0.0_wp, &
+      output = 0.0_wp, work_min = 0.0_wp, work_max = 0.0_wp
+    !> bytes: peak resident memory over all ranks and of the largest rank, before the grid
+    !> over all ranks; bytes per cell above that baseline; solver arrays per cell
+    real(wp) :: peak = 0.0_wp, peak_rank = 0.0_wp, base = 0.0_wp, per_cell = 0.0_wp, &
+      arrays_per_cell = 0.0_wp
+  end type run_facts_t
+
+contains
+
+  !> Start the progress clock at the loop's first step.
+  subroutine progress_start(sim, pg)
+    type(sim_t), intent(in) :: sim
+    type(progress_t), intent(out) :: pg
+    pg%wall0 = comm_wtime()
+    pg%last = pg%wall0
+    pg%time0 = sim%time
+    pg%step0 = sim%step
+  end subroutine progress_start
+
+  !> Rank 0 prints, to stdout and run.log, at most every progress_every seconds and when
+  !> last is set,
+  !>   progress: step 1200, t 4.5000e-05, dt 3.7500e-08, 56.2 % of t_end, wall 30.1 s,
+  !>   left 23.4 s, 1.234e+06 cell-steps/s
+  !> (one line). The per cent (from t = 0, step 0) and the time left (from this run's
+  !> start) are of t_end or max_steps, whichever the run reaches first; the rate counts the
+  !> active cells of all ranks.
+  subroutine progress_report(sim, pg, t_end, last)
+    type(sim_t), intent(in) :: sim
+    type(progress_t), intent(inout) :: pg
+    real(wp), intent(in) :: t_end
+    logical, intent(in) :: last
+    character(len=line_len) :: line
+    real(wp) :: now, done, left, rate, cells, share
+    logical :: by_steps
+    if (.not. comm_is_root()) return
+    now = comm_wtime()
+    if (.not. last .and. now - pg%last < progress_every) return
+    pg%last = now
+    done = 0.0_wp
+    if (t_end < huge(1.0_wp) .and. t_end > pg%time0) &
+      done = (sim%time - pg%time0) / (t_end - pg%time0)
+    if (sim%cfg%max_steps > pg%step0 .and. sim%cfg%max_steps < huge(1)) &
+      done = max(done, real(sim%step - pg%step0, wp) / (sim%cfg%max_steps - pg%step0))
+    done = min(max(done, 0.0_wp), 1.0_wp)
+    left = 0.0_wp
+    if (done > 0.0_wp) left = (now - pg%wall0) * (1.0_wp - done) / done
+    cells = real(count(sim%lay%active), wp) * product(real(sim%lay%bsize, wp))
+    rate = cells * (sim%step - pg%step0) / max(now - pg%wall0, 1.0e-9_wp)
+    share = 0.0_wp
+    if (t_end < huge(1.0_wp)) share = sim%time / t_end
+    by_steps = .false.
+    if (sim%cfg%max_steps < huge(1)) then
+      by_steps = real(sim%step, wp) / max(sim%cfg%max_steps, 1) > share
+      if (by_steps) share = real(sim%step, wp) / max(sim%cfg%max_steps, 1)
+    end if
+    write(line, '(a,i0,14a)') 'progress: step ', sim%step, &
+      ', t ', sci(sim%time, 4), ', dt ', sci(sim%dt, 4), ', ', seconds(100.0_wp * share), &
+      ' % of ' // trim(merge('max_steps', 't_end    ', by_steps)), ', wall ', &
+      seconds(now - sim%wall_start), ' s, left ', seconds(left), ' s, ', sci(rate, 3), &
+      ' cell-steps/s'
+    call log_line(line)
+    call log_flush()
+  end subroutine progress_report
+
+  !> x as 1.2345e-05 (digits after the point)
+  function sci(x, digits) result(r)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: digits
+    character(len=:), allocatable :: r
+    character(len=32) :: buf, fmt
+    write(fmt, '(a,i0,a,i0,a)') '(es', digits + 8, '.', digits, 'e2)'
+    write(buf, fmt) x
+    r = trim(adjustl(buf))
+  end function sci
+
+  !> one decimal and a leading zero: 0.1, 12.5, 3600.0
+  function seconds(x) result(r)
+    real(wp), intent(in) :: x
+    character(len=:), allocatable :: r
+    character(len=32) :: buf
+    write(buf, '(f12.1)') x
+    r = trim(adjustl(buf))
+  end function seconds
+
+  !> run.log's reason for the thermal effect
+  function thermal_reason(s) result(text)
+    type(sim_t), intent(in) :: s
+    character(len=:), allocatable :: text
+    if (s%has_strength .and. s%cfg%thermal) then
+      text = 'on: temperature from the EOS less elastic and stored work; Taylor-Quinney ' // &
+        'heating; Johnson-Cook softening where the model has it'
+    else if (s%has_strength) then
+      text = 'off: &physics thermal = .false. or no material needs it; the yield stress ' // &
+        'sees the reference temperature'
+    else
+      text = 'off: no strength (a gas carries its temperature in e)'
+    end if
+  end function thermal_reason
+
+  !> 'on: ...' with the level-set bodies and their boundary classes, or 'off: ...'.
+  function interfaces_reason(s) result(text)
+    type(sim_t), intent(in) :: s
+    character(len=line_len) :: text
+    character(len=*), parameter :: class_name(3) = [character(len=24) :: &
+      'free surface / contact', 'void, free surface (MVI)', 'rigid (MRI)']
+    integer :: l
+    if (s%ls%n == 0) then
+      text = 'off: no body of another material, void or rigid'
+      return
+    end if
+    write(text, '(a,i0,a,i0,a,f4.2,a)') 'on: ', s%ls%n, ' level sets, probe ' // &
+      trim(s%cfg%gfm_probe) // ', band ', s%cfg%band, ' cells, contact kappa ', &
+      s%cfg%contact_kappa, ':'
+    do l = 1, s%ls%n
+      text = trim(text) // ' ' // trim(s%ls%name(l)) // ' ' // trim(class_name(s%ls%kind(l)))
+      if (l < s%ls%n) text = trim(text) // ';'
+    end do
+  end function interfaces_reason
+
+  !> The facts of the run at its end. Collective. elapsed: the whole run's wall time, loop:
+  !> the time loop's; base: this rank's resident memory before the grid (kB).
+  function run_facts(s, elapsed, loop, base) result(f)
+    type(sim_t), intent(inout) :: s
+    real(wp), intent(in) :: elapsed, loop, base
+    type(run_facts_t) :: f
+    real(wp) :: work, cells
+    f%step = s%step
+    f%time = s%time
+    f%first_order_steps = s%first_order_steps
+    f%blocks_min = comm_min(size(s%blocks))
+    f%blocks_max = comm_max(size(s%blocks))
+    f%cell_steps = comm_sum(s%cell_steps)
+    f%fallback_faces = comm_sum(s%fallback_faces)
+    f%cells_low = comm_sum(s%cells_low)
+    f%gfm%ghosts = comm_sum(s%gcount%ghosts)
+    f%gfm%trilinear = comm_sum(s%gcount%trilinear)
+    f%gfm%incomplete = comm_sum(s%gcount%incomplete)
+    f%gfm%least_squares = comm_sum(s%gcount%least_squares)
+    f%gfm%mean = comm_sum(s%gcount%mean)
+    f%gfm%unfilled = comm_sum(s%gcount%unfilled)
+    f%gfm%limited = comm_sum(s%gcount%limited)
+    f%gfm%mmi = comm_sum(s%gcount%mmi)
+    f%gfm%separated = comm_sum(s%gcount%separated)
+    f%gfm%debris = comm_sum(s%gcount%debris)
+    f%gfm_s = comm_max(timer_total(s%timers, 'gfm'))
+    f%reinit_s = comm_max(timer_total(s%timers, 'reinit'))
+    if (s%fix_mass) then
+      f%fixed = [sum(s%fixed(1, :)), sum(s%fixed(2, :))]
+      f%fixed_percent(1) = 100.0_wp * f%fixed(1) / s%content0(1)
+      ! the energy part off: its content is not tracked, no per cent to give
+      f%fixed_percent(2) = ieee_nan()
+      if (s%fix_energy) f%fixed_percent(2) = 100.0_wp * f%fixed(2) / s%content0(2)
+    end if
+    f%fix_clamped = s%fix_clamped
+    f%fix_aside = s%fix_aside
+    f%wall = elapsed
+    f%loop = loop
+    f%fluxes = comm_max(timer_total(s%timers, 'fluxes'))
+    f%halo = comm_max(timer_total(s%timers, 'halo'))
+    f%dt = comm_max(timer_total(s%timers, 'dt'))
+    f%output = comm_max(timer_total(s%timers, 'output'))
+    ! work per rank: a rank with less waits for the others inside halo+bc
+    work = timer_total(s%timers, 'fluxes') + timer_total(s%timers, 'gfm') + &
+      timer_total(s%timers, 'reinit') + timer_total(s%timers, 'dt')
+    f%work_min = comm_min(work)
+    f%work_max = comm_max(work)
+    cells = real(count(s%lay%active), wp) * product(real(s%lay%bsize, wp))
+    f%peak = 1024.0_wp * comm_sum(memory_kb('VmHWM'))
+    f%peak_rank = 1024.0_wp * comm_max(memory_kb('VmHWM'))
+    f%base = 1024.0_wp * comm_sum(base)
+    f%per_cell = (f%peak - f%base) / cells
+    f%arrays_per_cell = 8.0_wp * s%nvar * (product(s%lay%bsize + 2 * s%lay%ng) &
+      + 2 * product(s%lay%bsize)) / product(s%lay%bsize)
+  end function run_facts
+
+  real(wp) function ieee_nan() result(x)
+    use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
+    x = ieee_value(1.0_wp, ieee_quiet_nan)
+  end function ieee_nan
+
+  !> out_dir/run.json (manual/user-guide.md lists the keys): written by rank 0.
+  subroutine run_json_write(s, f, path)
+    type(sim_t), intent(in) :: s
+    type(run_facts_t), intent(in) :: f
+    character(len=*), intent(in) :: path
+    type(json_t) :: js
+    character(len=64) :: names(s%nphase)
+    integer :: k
+    logical :: ok
+    if (.not. comm_is_root()) return
+    call json_begin(js)
+    call json_put(js, 'format', 'sabre run 1')
+    call json_put(js, 'status', 'complete')
+    call json_put(js, 'title', s%cfg%title)
+    call json_put(js, 'deck', s%cfg%deck_file)
+    call json_put(js, 'out_dir', s%cfg%out_dir)
+    call json_put(js, 'restart', s%cfg%restart)
+    call json_object(js, 'build')
+    call json_put(js, 'compiler', compiler_version())
+    call json_put(js, 'flags', compiler_options())
+    call json_close(js)
+    call json_put(js, 'ranks', comm_size())
+    call json_object(js, 'grid')
+    call json_put(js, 'ndim', s%lay%ndim)
+    call json_put_array(js, 'cells', s%lay%cells)
+    call json_put_array(js, 'block', s%lay%bsize)
+    call json_put(js, 'blocks', s%lay%nblocks)
+    call json_put(js, 'active_blocks', count(s%lay%active))
+    call json_put(js, 'blocks_per_rank_min', f%blocks_min)
+    call json_put(js, 'blocks_per_rank_max', f%blocks_max)
+    call json_close(js)
+    call json_object(js, 'numerics')
+    call json_put(js, 'scheme', s%cfg%scheme)
+    call json_put(js, 'flux', s%cfg%flux)
+    call json_put(js, 'rk_order', s%cfg%rk_order)
+    call json_put(js, 'cfl', s%cfg%cfl)
+    call json_put(js, 'scalar_flux', s%cfg%scalar_flux)
+    call json_put(js, 'surface_flux', s%cfg%surface_flux)
+    call json_put(js, 'gfm_probe', s%cfg%gfm_probe)
+    call json_put(js, 'conserve', s%cfg%conserve)
+    call json_put(js, 'chosen', s%cfg%numerics_note)
+    call json_close(js)
+    do k = 1, s%nphase
+      names(k) = s%material(k)
+    end do
+    call json_put_array(js, 'phases', names)
+    call json_object(js, 'effects')
+    call effect(js, 'strength', s%has_strength, s%strength_reason)
+    call effect(js, 'thermal', s%has_strength .and. s%cfg%thermal, thermal_reason(s))
+    call effect(js, 'interfaces', s%ls%n > 0, interfaces_reason(s))
+    if (s%ls%n > 0) then
+      call effect(js, 'conservation_fix', s%fix_mass, s%fix_reason)
+    else
+      call effect(js, 'conservation_fix', .false., 'off: no level sets')
+    end if
+    call json_close(js)
+    call json_object(js, 'state')
+    call json_put(js, 'variables', s%nvar)
+    call json_put(js, 'variables_per_phase', s%nflow)
+    call json_put(js, 'level_sets', s%ls%n)
+    call json_close(js)
+    call json_object(js, 'end')
+    call json_put(js, 'step', f%step)
+    call json_put(js, 'time', f%time)
+    call json_close(js)
+    call json_object(js, 'fallback')
+    call json_put(js, 'faces', f%fallback_faces)
+    call json_put(js, 'steps', f%first_order_steps)
+    call json_put(js, 'cells', f%cells_low)
+    call json_close(js)
+    if (s%ls%n > 0) then
+      call json_object(js, 'gfm')
+      call json_put(js, 'ghost_fills', f%gfm%ghosts)
+      call json_put(js, 'trilinear', f%gfm%trilinear)
+      call json_put(js, 'incomplete_stencil', f%gfm%incomplete)
+      call json_put(js, 'least_squares', f%gfm%least_squares)
+      call json_put(js, 'mean_of_neighbours', f%gfm%mean)
+      call json_put(js, 'without_real_neighbour', f%gfm%unfilled)
+      call json_put(js, 'pressures_limited', f%gfm%limited)
+      call json_put(js, 'mmi', f%gfm%mmi)
+      call json_put(js, 'contact_in_tension', f%gfm%separated)
+      call json_put(js, 'debris', f%gfm%debris)
+      call json_put(js, 'fill_seconds', f%gfm_s)
+      call json_put(js, 'reinit_seconds', f%reinit_s)
+      call json_close(js)
+    end if
+    if (s%fix_mass) then
+      call json_object(js, 'fix')
+      call json_put(js, 'mass_kg', f%fixed(1))
+      call json_put(js, 'mass_percent', f%fixed_percent(1))
+      call json_put(js, 'energy', trim(merge('on ', 'off', s%fix_energy)))
+      call json_put(js, 'energy_J', f%fixed(2))
+      call json_put(js, 'energy_percent', f%fixed_percent(2))
+      call json_put(js, 'clamped', f%fix_clamped)
+      call json_put(js, 'aside_steps', f%fix_aside)
+      call json_close(js)
+    end if
+    call json_object(js, 'timings')
+    call json_put(js, 'wall_seconds', f%wall)
+    call json_put(js, 'loop_seconds', f%loop)
+    call json_put(js, 'fluxes_seconds', f%fluxes)
+    call json_put(js, 'halo_seconds', f%halo)
+    call json_put(js, 'dt_seconds', f%dt)
+    call json_put(js, 'output_seconds', f%output)
+    call json_put(js, 'work_min_seconds', f%work_min)
+    call json_put(js, 'work_max_seconds', f%work_max)
+    call json_close(js)
+    call json_object(js, 'cost')
+    call json_put(js, 'cell_steps', f%cell_steps)
+    call json_put(js, 'cell_steps_per_second_per_rank', &
+      real(f%cell_steps, wp) / max(f%wall, 1.0e-9_wp) / comm_size())
+    call json_put(js, 'loop_cell_steps_per_second', &
+      real(f%cell_steps, wp) / max(f%loop, 1.0e-9_wp))
+    call json_close(js)
+    call json_object(js, 'memory')
+    call json_put(js, 'estimate_bytes_per_rank', sum(s%mem))
+    call json_object(js, 'estimate_parts')
+    do k = 1, size(mem_parts)
+      call json_put(js, trim(mem_parts(k)), s%mem(k))
+    end do
+    call json_close(js)
+    call json_put(js, 'baseline_bytes_rank0', s%mem_base)
+    call json_put(js, 'node_available_bytes', s%node_available)
+    call json_put(js, 'node_ranks', s%node_ranks)
+    call json_put(js, 'peak_resident_bytes', f%peak)
+    call json_put(js, 'peak_resident_bytes_max_rank', f%peak_rank)
+    call json_put(js, 'baseline_bytes', f%base)
+    call json_put(js, 'bytes_per_cell_above_baseline', f%per_cell)
+    call json_put(js, 'solver_array_bytes_per_cell', f%arrays_per_cell)
+    call json_close(js)
+    call json_end(js)
+    call json_write(js, path, ok)
+    if (.not. ok) call log_line('run.json: cannot write ' // trim(path))
+
+  contains
+
+    subroutine effect(jj, key, on, why)
+      type(json_t), intent(inout) :: jj
+      character(len=*), intent(in) :: key, why
+      logical, intent(in) :: on
+      call json_object(jj, key)
+      call json_put(jj, 'on', on)
+      call json_put(jj, 'why', adjustl(why))
+      call json_close(jj)
+    end subroutine effect
+
+  end subroutine run_json_write
+
+end module m_run_report
