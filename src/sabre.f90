@@ -16,6 +16,7 @@ program sabre
   use m_output, only: output_restart
   use m_timeloop, only: run_time_loop
   use m_timers, only: timer_total, memory_kb
+  use m_layout, only: block_extent
   implicit none
   type(config_t) :: cfg
   type(sim_t) :: sim
@@ -102,6 +103,11 @@ contains
     write(line, '(a,i0,a,3(i0,1x),a,3(i0,1x),a,i0,a)') 'grid: ', s%lay%ndim, 'D, cells ', &
       s%lay%cells, ', blocks of ', s%lay%bsize, '(', count(s%lay%active), ' active)'
     call log_line(line)
+    if (any(s%lay%nlast /= s%lay%bsize)) then
+      write(line, '(a,3(i0,1x),a)') 'grid: the last block along each direction has ', &
+        s%lay%nlast, 'cells'
+      call log_line(line)
+    end if
     write(line, '(a,i0,a,i0,a,i0)') 'ranks: ', comm_size(), '; blocks per rank: min ', &
       comm_min(nb), ', max ', comm_max(nb)
     call log_line(line)
@@ -184,6 +190,7 @@ contains
     real(wp), intent(in) :: elapsed, loop, base
     character(len=line_len) :: line
     integer(i8) :: cs, nfall
+    integer :: id
     real(wp) :: cells, peak, base_sum, arrays, work
     cs = comm_sum(s%cell_steps)
     nfall = comm_sum(s%fallback_faces)
@@ -242,7 +249,10 @@ contains
     write(line, '(a,f10.3,a,f10.3,a)') 'balance: work per rank (fluxes, ghost fill, ' // &
       'reinitialisation, dt) min ', comm_min(work), ' s, max ', comm_max(work), ' s'
     call log_line(line)
-    cells = real(count(s%lay%active), wp) * product(s%lay%bsize)
+    cells = 0.0_wp
+    do id = 1, s%lay%nblocks
+      if (s%lay%active(id)) cells = cells + real(product(block_extent(s%lay, id)), wp)
+    end do
     peak = comm_sum(memory_kb('VmHWM'))
     base_sum = comm_sum(base)
     arrays = 8.0_wp * s%nvar * (product(s%lay%bsize + 2 * s%lay%ng) &
