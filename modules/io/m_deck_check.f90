@@ -172,16 +172,15 @@ contains
   end subroutine check_domain
 
   !> Cells per block along a direction of n cells (manual/user-guide.md, Blocks): a target of
-  !> 128 cells in 1D, 64^2 in 2D and 32^3 in 3D (the halo adds 6 %, 27 % and 95 %), n itself
+  !> 64 cells in 1D, 64^2 in 2D and 32^3 in 3D (the halo adds 12 %, 27 % and 95 %), n itself
   !> when n is no larger; else the largest divisor of n between half the target and the
   !> target, so that all blocks are whole, and the target itself when there is none (the
-  !> last block takes the rest).
+  !> last block takes the rest). Independent of the rank count, so that a deck resolves to
+  !> the same blocks (and the same results) on any number of ranks.
   integer function default_block(n, nd) result(b)
     integer, intent(in) :: n, nd
     integer :: target
-    target = 128
-    if (nd == 2) target = 64
-    if (nd == 3) target = 32
+    target = merge(32, 64, nd == 3)
     if (n <= target) then
       b = n
       return
