@@ -57,7 +57,9 @@ contains
     integer :: m, k, l
     if (sim%last_plot_step == sim%step) return
     path = step_file_name(sim, 'plot', sim%step, '.h5')
-    allocate(data(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3), size(sim%blocks)))
+    ! every block at the largest extent; h5_write_field writes each block's own part
+    allocate(data(sim%lay%nmax(1), sim%lay%nmax(2), sim%lay%nmax(3), size(sim%blocks)))
+    data = 0.0_wp
     ids = [(sim%blocks(k)%id, k = 1, size(sim%blocks))]
     ! the deck's fields, then the level set of every body (phi_<body>, negative inside)
     names = [sim%cfg%fields(1:sim%cfg%n_fields), &
@@ -71,8 +73,10 @@ contains
         call field_values(sim, names(m), data)
       else
         do k = 1, size(sim%blocks)
-          data(:, :, :, k) = sim%blocks(k)%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), &
-            1:sim%lay%bsize(3), sim%ils + m - sim%cfg%n_fields)
+          associate (n => sim%blocks(k)%n)
+            data(1:n(1), 1:n(2), 1:n(3), k) = sim%blocks(k)%q(1:n(1), 1:n(2), 1:n(3), &
+              sim%ils + m - sim%cfg%n_fields)
+          end associate
         end do
       end if
       call h5_write_field(f, '/fields/' // trim(names(m)), sim%lay, ids, data)
@@ -93,66 +97,77 @@ contains
 
   !> One named field over the interiors of this rank's blocks: in each cell the value of the
   !> phase whose region it is (where none is, the nearest phase's rest or ghost state).
+  !> data(:, :, :, b) is block b at the largest block extent; its own part is filled.
   subroutine field_values(sim, name, data)
     type(sim_t), intent(in) :: sim
     character(len=*), intent(in) :: name
-    real(wp), intent(out) :: data(:, :, :, :)
-    integer :: b, j, k, n, p, off
-    integer :: sel(sim%lay%bsize(1))
-    logical :: isreal(sim%lay%bsize(1))
-    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, v, w, pr, e, aux
-    n = sim%lay%bsize(1)
+    real(wp), intent(inout) :: data(:, :, :, :)
+    integer :: b
     do b = 1, size(sim%blocks)
-      associate (q => sim%blocks(b)%q)
-        do k = 1, sim%lay%bsize(3)
-          do j = 1, sim%lay%bsize(2)
-            call phase_select(sim, q(1:n, j, k, :), sel, isreal)
-            do p = 1, sim%nphase
-              if (.not. any(sel == p)) cycle
-              off = (p - 1) * sim%nflow
-              associate (qp => q(1:n, j, k, off + 1:off + sim%nflow))
-                call primitive_row(sim%eos(p), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
-                  qp(:, i_mz), qp(:, i_en), rho, u, v, w, pr, e)
-                select case (trim(name))
-                case ('rho')
-                  aux = rho
-                case ('u')
-                  aux = u
-                case ('v')
-                  aux = v
-                case ('w')
-                  aux = w
-                case ('p')
-                  aux = pr
-                case ('e')
-                  aux = e
-                case ('T')
-                  if (sim%strong(p)) then
-                    call solid_temperature(sim%eos(p), sim%st(p), n, rho, e, qp, aux)
-                  else
-                    call eos_temperature(sim%eos(p), n, rho, e, aux)
-                  end if
-                case ('c')
-                  call eos_sound_speed2(sim%eos(p), n, rho, pr, aux)
-                  aux = sqrt(max(aux, 0.0_wp))
-                case ('mach')
-                  call eos_sound_speed2(sim%eos(p), n, rho, pr, aux)
-                  aux = sqrt(u**2 + v**2 + w**2) / sqrt(max(aux, tiny(1.0_wp)))
-                case ('sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz', 'eps_p', 'seq')
-                  aux = solid_field(name, qp, rho)
-                case ('phase')
-                  aux = real(p, wp)
-                case default
-                  aux = 0.0_wp
-                end select
-              end associate
-              where (sel == p) data(:, j, k, b) = aux
-            end do
-          end do
-        end do
-      end associate
+      call block_field_values(sim, name, b, data(:, :, :, b))
     end do
   end subroutine field_values
+
+  !> field_values on block b.
+  subroutine block_field_values(sim, name, b, data)
+    type(sim_t), intent(in) :: sim
+    character(len=*), intent(in) :: name
+    integer, intent(in) :: b
+    real(wp), intent(inout) :: data(:, :, :)
+    integer :: j, k, n, p, off
+    integer :: sel(sim%blocks(b)%n(1))
+    logical :: isreal(sim%blocks(b)%n(1))
+    real(wp), dimension(sim%blocks(b)%n(1)) :: rho, u, v, w, pr, e, aux
+    n = sim%blocks(b)%n(1)
+    associate (q => sim%blocks(b)%q)
+      do k = 1, sim%blocks(b)%n(3)
+        do j = 1, sim%blocks(b)%n(2)
+          call phase_select(sim, q(1:n, j, k, :), sel, isreal)
+          do p = 1, sim%nphase
+            if (.not. any(sel == p)) cycle
+            off = (p - 1) * sim%nflow
+            associate (qp => q(1:n, j, k, off + 1:off + sim%nflow))
+              call primitive_row(sim%eos(p), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
+                qp(:, i_mz), qp(:, i_en), rho, u, v, w, pr, e)
+              select case (trim(name))
+              case ('rho')
+                aux = rho
+              case ('u')
+                aux = u
+              case ('v')
+                aux = v
+              case ('w')
+                aux = w
+              case ('p')
+                aux = pr
+              case ('e')
+                aux = e
+              case ('T')
+                if (sim%strong(p)) then
+                  call solid_temperature(sim%eos(p), sim%st(p), n, rho, e, qp, aux)
+                else
+                  call eos_temperature(sim%eos(p), n, rho, e, aux)
+                end if
+              case ('c')
+                call eos_sound_speed2(sim%eos(p), n, rho, pr, aux)
+                aux = sqrt(max(aux, 0.0_wp))
+              case ('mach')
+                call eos_sound_speed2(sim%eos(p), n, rho, pr, aux)
+                aux = sqrt(u**2 + v**2 + w**2) / sqrt(max(aux, tiny(1.0_wp)))
+              case ('sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz', 'eps_p', 'seq')
+                aux = solid_field(name, qp, rho)
+              case ('phase')
+                aux = real(p, wp)
+              case default
+                aux = 0.0_wp
+              end select
+            end associate
+            where (sel == p) data(1:n, j, k) = aux
+          end do
+        end do
+      end do
+    end associate
+  end subroutine block_field_values
 
   !> A strength field of one row (zero when the state carries no stress): a deviatoric
   !> component, the effective plastic strain, or the von Mises stress sqrt(3 J2).
@@ -191,8 +206,9 @@ contains
     real(wp), allocatable :: data(:, :, :, :)
     integer, allocatable :: ids(:)
     integer :: m, b, n(3)
-    n = sim%lay%bsize
+    n = sim%lay%nmax
     allocate(data(n(1), n(2), n(3), size(sim%blocks)))
+    data = 0.0_wp
     ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
     call h5_create(f, step_file_name(sim, 'chk', sim%step, '.h5'), sim%lay)
     call h5_write_attr(f, 'time', sim%time)
@@ -214,7 +230,8 @@ contains
     end if
     do m = 1, sim%nvar
       do b = 1, size(sim%blocks)
-        data(:, :, :, b) = sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m)
+        n = sim%blocks(b)%n
+        data(1:n(1), 1:n(2), 1:n(3), b) = sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m)
       end do
       call h5_write_field(f, trim(state_names(m)), sim%lay, ids, data)
     end do
@@ -303,7 +320,7 @@ contains
     real(wp), allocatable :: fix(:)
     ! that the file is a checkpoint for this grid and state was checked before anything was
     ! written (output_restart_check)
-    n = sim%lay%bsize
+    n = sim%lay%nmax
     allocate(data(n(1), n(2), n(3), size(sim%blocks)))
     ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
     call h5_open_read(f, path)
@@ -334,7 +351,8 @@ contains
     do m = 1, sim%nvar
       call h5_read_field(f, trim(state_names(m)), sim%lay, ids, data)
       do b = 1, size(sim%blocks)
-        sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m) = data(:, :, :, b)
+        n = sim%blocks(b)%n
+        sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m) = data(1:n(1), 1:n(2), 1:n(3), b)
       end do
     end do
     call h5_close(f)
@@ -368,54 +386,18 @@ contains
     type(sim_t), intent(in) :: sim
     real(wp), allocatable :: v(:)
     real(wp) :: tot(8), pmax, tmax, epmax
-    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, vv, w, p, e, temp, dv, msk
-    integer :: sel(sim%lay%bsize(1))
-    logical :: isreal(sim%lay%bsize(1))
-    integer :: b, i, j, k, n, l, nb, ph, o
+    integer :: b, l, nb, ph
     real(wp), allocatable :: body(:, :)
     logical :: has_t(sim%nphase)
     do ph = 1, sim%nphase
       has_t(ph) = is_set(sim%cfg%materials(material_index(sim%cfg, sim%material(ph)))%cv)
     end do
-    n = sim%lay%bsize(1)
     tot = 0.0_wp
     pmax = -huge(1.0_wp)
     tmax = -huge(1.0_wp)
     epmax = 0.0_wp
     do b = 1, size(sim%blocks)
-      associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
-        dv = [(cell_volume(sim%lay, off, i), i = 1, n)]
-        do k = 1, sim%lay%bsize(3)
-          do j = 1, sim%lay%bsize(2)
-            call phase_select(sim, q(1:n, j, k, :), sel, isreal)
-            do ph = 1, sim%nphase
-              msk = merge(1.0_wp, 0.0_wp, isreal .and. sel == ph)
-              if (.not. any(msk > 0.0_wp)) cycle
-              o = (ph - 1) * sim%nflow
-              associate (qp => q(1:n, j, k, o + 1:o + sim%nflow))
-                call primitive_row(sim%eos(ph), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
-                  qp(:, i_mz), qp(:, i_en), rho, u, vv, w, p, e)
-                if (sim%strong(ph)) then
-                  call solid_temperature(sim%eos(ph), sim%st(ph), n, rho, e, qp, temp)
-                else
-                  call eos_temperature(sim%eos(ph), n, rho, e, temp)
-                end if
-                tot(1) = tot(1) + sum(msk * dv * rho)
-                tot(2) = tot(2) + sum(msk * dv * qp(:, i_mx))
-                tot(3) = tot(3) + sum(msk * dv * qp(:, i_my))
-                tot(4) = tot(4) + sum(msk * dv * qp(:, i_mz))
-                tot(5) = tot(5) + sum(msk * dv * 0.5_wp * rho * (u**2 + vv**2 + w**2))
-                tot(6) = tot(6) + sum(msk * dv * rho * e)
-                tot(7) = tot(7) + sum(msk * dv * qp(:, i_en))
-                pmax = max(pmax, maxval(p, msk > 0.0_wp))
-                if (has_t(ph)) tmax = max(tmax, maxval(temp, msk > 0.0_wp))
-                if (sim%strong(ph)) epmax = max(epmax, &
-                  maxval(qp(:, i_epsp) / rho, msk > 0.0_wp))
-              end associate
-            end do
-          end do
-        end do
-      end associate
+      call block_totals(sim, b, has_t, tot, pmax, tmax, epmax)
     end do
     tot(8) = real(sim%fallback_step, wp)
     call comm_sum_array(tot(1:7))
@@ -435,6 +417,52 @@ contains
     end do
     v = [v, reshape(body, [8 * nb])]
   end function history_values
+
+  !> The totals and maxima of history_values over block b, added in cell order.
+  subroutine block_totals(sim, b, has_t, tot, pmax, tmax, epmax)
+    type(sim_t), intent(in) :: sim
+    integer, intent(in) :: b
+    logical, intent(in) :: has_t(:)   !< phases with a temperature (max_T)
+    real(wp), intent(inout) :: tot(8), pmax, tmax, epmax
+    real(wp), dimension(sim%blocks(b)%n(1)) :: rho, u, vv, w, p, e, temp, dv, msk
+    integer :: sel(sim%blocks(b)%n(1))
+    logical :: isreal(sim%blocks(b)%n(1))
+    integer :: i, j, k, n, ph, o
+    n = sim%blocks(b)%n(1)
+    associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
+      dv = [(cell_volume(sim%lay, off, i), i = 1, n)]
+      do k = 1, sim%blocks(b)%n(3)
+        do j = 1, sim%blocks(b)%n(2)
+          call phase_select(sim, q(1:n, j, k, :), sel, isreal)
+          do ph = 1, sim%nphase
+            msk = merge(1.0_wp, 0.0_wp, isreal .and. sel == ph)
+            if (.not. any(msk > 0.0_wp)) cycle
+            o = (ph - 1) * sim%nflow
+            associate (qp => q(1:n, j, k, o + 1:o + sim%nflow))
+              call primitive_row(sim%eos(ph), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
+                qp(:, i_mz), qp(:, i_en), rho, u, vv, w, p, e)
+              if (sim%strong(ph)) then
+                call solid_temperature(sim%eos(ph), sim%st(ph), n, rho, e, qp, temp)
+              else
+                call eos_temperature(sim%eos(ph), n, rho, e, temp)
+              end if
+              tot(1) = tot(1) + sum(msk * dv * rho)
+              tot(2) = tot(2) + sum(msk * dv * qp(:, i_mx))
+              tot(3) = tot(3) + sum(msk * dv * qp(:, i_my))
+              tot(4) = tot(4) + sum(msk * dv * qp(:, i_mz))
+              tot(5) = tot(5) + sum(msk * dv * 0.5_wp * rho * (u**2 + vv**2 + w**2))
+              tot(6) = tot(6) + sum(msk * dv * rho * e)
+              tot(7) = tot(7) + sum(msk * dv * qp(:, i_en))
+              pmax = max(pmax, maxval(p, msk > 0.0_wp))
+              if (has_t(ph)) tmax = max(tmax, maxval(temp, msk > 0.0_wp))
+              if (sim%strong(ph)) epmax = max(epmax, &
+                maxval(qp(:, i_epsp) / rho, msk > 0.0_wp))
+            end associate
+          end do
+        end do
+      end do
+    end associate
+  end subroutine block_totals
 
   !> The phase of each cell of a row (the one whose composite level set is least there) and
   !> whether the cell is real for it (in its region).
@@ -475,10 +503,11 @@ contains
     integer, intent(in) :: l
     real(wp) :: m(8)
     real(wp) :: x(3), dv, lo(3), hi(3), t, edge
-    integer :: b, i, j, k, d, c(3), iv, o
-    integer :: sel(sim%lay%bsize(1))
-    logical :: isreal(sim%lay%bsize(1))
-    real(wp) :: least(sim%lay%bsize(1)), h, f
+    integer :: b, i, j, k, d, c(3), iv, o, n(3)
+    integer, allocatable :: sel(:)
+    logical, allocatable :: isreal(:)
+    real(wp), allocatable :: least(:)
+    real(wp) :: h, f
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
     iv = sim%ils + l
     o = (sim%ls%phase(l) - 1) * sim%nflow
@@ -486,12 +515,15 @@ contains
     lo = huge(1.0_wp)
     hi = -huge(1.0_wp)
     do b = 1, size(sim%blocks)
+      n = sim%blocks(b)%n
+      if (allocated(sel)) deallocate(sel, isreal, least)
+      allocate(sel(n(1)), isreal(n(1)), least(n(1)))
       associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
-        do k = 1, sim%lay%bsize(3)
-          do j = 1, sim%lay%bsize(2)
-            if (.not. any(q(1:sim%lay%bsize(1), j, k, iv) < 0.5_wp * h)) cycle
-            call phase_select(sim, q(1:sim%lay%bsize(1), j, k, :), sel, isreal, least)
-            do i = 1, sim%lay%bsize(1)
+        do k = 1, n(3)
+          do j = 1, n(2)
+            if (.not. any(q(1:n(1), j, k, iv) < 0.5_wp * h)) cycle
+            call phase_select(sim, q(1:n(1), j, k, :), sel, isreal, least)
+            do i = 1, n(1)
               if (.not. q(i, j, k, iv) < 0.5_wp * h .or. sel(i) /= sim%ls%phase(l)) cycle
               x = cell_centre(sim%lay, off, i, j, k)
               dv = cell_volume(sim%lay, off, i)

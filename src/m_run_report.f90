@@ -12,6 +12,7 @@ module m_run_report
   use m_comm, only: comm_sum, comm_min, comm_max, comm_size, comm_wtime, comm_is_root
   use m_errors, only: log_line, log_flush
   use m_timers, only: timer_total, memory_kb
+  use m_layout, only: active_cells
   use m_json, only: json_t, json_begin, json_end, json_object, json_close, json_put, &
     json_put_array, json_write
   implicit none
@@ -86,7 +87,7 @@ contains
     done = min(max(done, 0.0_wp), 1.0_wp)
     left = 0.0_wp
     if (done > 0.0_wp) left = (now - pg%wall0) * (1.0_wp - done) / done
-    cells = real(count(sim%lay%active), wp) * product(real(sim%lay%bsize, wp))
+    cells = active_cells(sim%lay)
     rate = cells * (sim%step - pg%step0) / max(now - pg%wall0, 1.0e-9_wp)
     share = 0.0_wp
     if (t_end < huge(1.0_wp)) share = sim%time / t_end
@@ -206,7 +207,7 @@ contains
       timer_total(s%timers, 'reinit') + timer_total(s%timers, 'dt')
     f%work_min = comm_min(work)
     f%work_max = comm_max(work)
-    cells = real(count(s%lay%active), wp) * product(real(s%lay%bsize, wp))
+    cells = active_cells(s%lay)
     f%peak = 1024.0_wp * comm_sum(memory_kb('VmHWM'))
     f%peak_rank = 1024.0_wp * comm_max(memory_kb('VmHWM'))
     f%base = 1024.0_wp * comm_sum(base)

@@ -7,7 +7,7 @@
 module m_simulation
   use m_kinds, only: wp, i8, name_len
   use m_config, only: config_t, material_t, is_set, material_index
-  use m_layout, only: layout_t, layout_init, block_offset
+  use m_layout, only: layout_t, layout_init, block_offset, block_extent
   use m_blocks, only: block_t, blocks_allocate
   use m_halo, only: halo_plan_t, halo_plan_build
   use m_partition, only: partition_blocks
@@ -28,7 +28,7 @@ module m_simulation
   use m_deck_text, only: base_name, int_text
   implicit none
   private
-  public :: sim_t, sim_setup, sim_paint_initial_state, mem_parts, mem_text
+  public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, mem_parts, mem_text
 
   !> the parts of the memory estimate (sim_memory_estimate), in the order of sim_t%mem
   character(len=*), parameter :: mem_parts(6) = [character(len=10) :: 'state', 'halos', &
@@ -112,7 +112,7 @@ contains
     type(config_t), intent(in) :: cfg
     type(sim_t), intent(inout) :: sim
     logical :: periodic(3)
-    integer :: d, p, lo(3), hi(3)
+    integer :: d, p, id
     integer, allocatable :: work(:)
     type(material_t) :: mat
     sim%cfg = cfg
@@ -152,15 +152,12 @@ contains
     call sim_memory_estimate(sim)
     call memory_check(sim)
     allocate(work(sim%lay%nblocks))
-    work = product(sim%lay%bsize)
+    work = [(product(block_extent(sim%lay, id)), id = 1, sim%lay%nblocks)]
     call partition_blocks(sim%lay, work)
     call blocks_allocate(sim%lay, comm_rank(), sim%nvar, sim%blocks)
     call halo_plan_build(sim%lay, sim%blocks, sim%plan)
-    call euler_work_init(sim%lay, sim%nflow, sim%work)
-    allocate(sim%qsave(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3), sim%nvar))
-    allocate(sim%trouble(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
+    call shape_work(sim, sim%lay)
     if (sim%ls%n > 0) then
-      call gfm_work_init(sim%lay, sim%nflow, sim%nphase, sim%gwork)
       sim%scn%eos = sim%eos
       sim%scn%shear = sim%shear
       sim%scn%rest = sim%rest
@@ -168,10 +165,6 @@ contains
       sim%scn%probe = probe_from_name(cfg%gfm_probe)
       sim%scn%band = ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim))
       sim%scn%contact = cfg%contact_kappa * maxval(sim%lay%dx(1:sim%lay%ndim))
-      lo = 1 - sim%lay%ng
-      hi = sim%lay%bsize + sim%lay%ng
-      allocate(sim%vel(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), 3))
-      allocate(sim%ls_rhs(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
       allocate(sim%dormant(size(sim%blocks)))
       sim%dormant = .false.
       call fix_setup(sim)
@@ -198,6 +191,35 @@ contains
 
   end subroutine sim_setup
 
+  !> Shape the work arrays that the blocks share (flux and ghost-fill scratch, the stage copy,
+  !> the trouble mask, the level-set velocity and rates) for block b before it is computed:
+  !> the last block along a direction may have another extent (m_layout), and every array a
+  !> kernel sees has the extent of the block it works on. Reallocates only when the extent
+  !> differs from that of the block they were last shaped for.
+  subroutine sim_block_work(sim, b)
+    type(sim_t), intent(inout) :: sim
+    integer, intent(in) :: b
+    if (all(shape(sim%trouble) == sim%blocks(b)%n)) return
+    call shape_work(sim, sim%blocks(b)%lay)
+  end subroutine sim_block_work
+
+  !> The shared work arrays for a block of layout (or view) bl.
+  subroutine shape_work(sim, bl)
+    type(sim_t), intent(inout) :: sim
+    type(layout_t), intent(in) :: bl
+    integer :: lo(3), hi(3), n(3)
+    n = bl%bsize
+    lo = 1 - bl%ng
+    hi = n + bl%ng
+    if (allocated(sim%qsave)) deallocate(sim%qsave, sim%trouble)
+    call euler_work_init(bl, sim%nflow, sim%work)
+    allocate(sim%qsave(n(1), n(2), n(3), sim%nvar), sim%trouble(n(1), n(2), n(3)))
+    if (sim%ls%n == 0) return
+    if (allocated(sim%vel)) deallocate(sim%vel, sim%ls_rhs)
+    call gfm_work_init(bl, sim%nflow, sim%nphase, sim%gwork)
+    allocate(sim%vel(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), 3), sim%ls_rhs(n(1), n(2), n(3)))
+  end subroutine shape_work
+
   !> Which bodies carry level sets, and the phases (manual/interfaces.md section 1): the base
   !> material when it is not void (phase 1), then each material body. Every void and rigid
   !> body, and every body of a material other than the base, gets a level set, except a
@@ -207,7 +229,7 @@ contains
   subroutine level_set_bodies(cfg, sim)
     type(config_t), intent(in) :: cfg
     type(sim_t), intent(inout) :: sim
-    integer :: b, n, id, i, j, k, off(3), np
+    integer :: b, n, id, i, j, k, off(3), np, ext(3)
     real(wp) :: deep, dmax
     logical, allocatable :: whole(:)
     character(len=:), allocatable :: base
@@ -269,10 +291,11 @@ contains
           * maxval(sim%lay%dx(1:sim%lay%ndim))
         do id = 1, sim%lay%nblocks
           off = block_offset(sim%lay, id)
+          ext = block_extent(sim%lay, id)
           dmax = -huge(1.0_wp)
-          do k = 1, sim%lay%bsize(3)
-            do j = 1, sim%lay%bsize(2)
-              do i = 1, sim%lay%bsize(1)
+          do k = 1, ext(3)
+            do j = 1, ext(2)
+              do i = 1, ext(1)
                 dmax = max(dmax, body_distance(body, sim%lay%ndim, &
                   cell_centre(sim%lay, off, i, j, k)))
               end do
@@ -341,9 +364,9 @@ contains
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
     do b = 1, size(sim%blocks)
       associate (blk => sim%blocks(b))
-        do k = 1, sim%lay%bsize(3)
-          do j = 1, sim%lay%bsize(2)
-            do i = 1, sim%lay%bsize(1)
+        do k = 1, blk%n(3)
+          do j = 1, blk%n(2)
+            do i = 1, blk%n(1)
               x = cell_centre(sim%lay, blk%offset, i, j, k)
               do l = 1, sim%ls%n
                 phi(1, 1, 1, l) = body_distance(sim%cfg%bodies(sim%ls%body(l)), &
@@ -432,8 +455,8 @@ contains
     logical :: leader
     nd = real(sim%lay%ndim, wp)
     nb = real(ceiling(real(count(sim%lay%active), wp) / comm_size()), wp)
-    ni = product(real(sim%lay%bsize, wp))
-    np = product(real(sim%lay%bsize + 2 * sim%lay%ng, wp))
+    ni = product(real(sim%lay%nmax, wp))
+    np = product(real(sim%lay%nmax + 2 * sim%lay%ng, wp))
     sim%mem(1) = b8 * nb * sim%nvar * (np + 2.0_wp * ni)
     ! the blocks on the surface of a compact piece of nb blocks, one face halo each
     halo_cells = 0.0_wp

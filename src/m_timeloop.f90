@@ -3,7 +3,7 @@
 !> files, checkpoints and the wall-clock limit. The only place that strings a step together.
 module m_timeloop
   use m_kinds, only: wp, i8, line_len
-  use m_simulation, only: sim_t
+  use m_simulation, only: sim_t, sim_block_work
   use m_halo, only: halo_exchange, halo_refresh
   use m_boundary, only: boundary_apply, boundary_walls, bc_outflow
   use m_euler, only: euler_rhs, euler_max_rate, rk_stage_update, plastic_correction, &
@@ -31,6 +31,11 @@ module m_timeloop
   private
   public :: run_time_loop
 
+  !> The level sets of one block with its halo (blocks may differ in extent, m_layout).
+  type :: level_sets_t
+    real(wp), allocatable :: phi(:, :, :, :)
+  end type level_sets_t
+
 contains
 
   subroutine run_time_loop(sim, deck_text)
@@ -41,7 +46,7 @@ contains
     real(wp) :: rate, t_end, step_wall, t0, worst_step
     logical :: ok, stop_wall, stop_bad, changed
     character(len=line_len) :: msg
-    integer :: restart_step
+    integer :: restart_step, b
     t_end = huge(1.0_wp)
     if (is_set(sim%cfg%t_end)) t_end = sim%cfg%t_end
     restart_step = -1
@@ -90,7 +95,8 @@ contains
       end if
       sim%time = sim%time + sim%dt
       sim%step = sim%step + 1
-      sim%cell_steps = sim%cell_steps + int(size(sim%blocks), i8) * product(sim%lay%bsize)
+      sim%cell_steps = sim%cell_steps + sum([(int(product(sim%blocks(b)%n), i8), &
+        b = 1, size(sim%blocks))])
       step_wall = comm_wtime() - t0
       worst_step = max(worst_step, step_wall)
       call timer_start(sim%timers, 'output')
@@ -151,7 +157,7 @@ contains
     do halvings = 0, 4
       if (halvings > 0) sim%dt = 0.5_wp * sim%dt
       do b = 1, size(sim%blocks)
-        associate (q => sim%blocks(b)%q, n => sim%lay%bsize)
+        associate (q => sim%blocks(b)%q, n => sim%blocks(b)%n)
           q(1:n(1), 1:n(2), 1:n(3), :) = sim%blocks(b)%q0
         end associate
       end do
@@ -184,7 +190,7 @@ contains
     do b = 1, size(sim%blocks)
       do p = 1, sim%nphase
         off = (p - 1) * sim%nflow
-        call euler_max_rate(sim%lay, sim%eos(p), sim%shear(p), &
+        call euler_max_rate(sim%blocks(b)%lay, sim%eos(p), sim%shear(p), &
           sim%blocks(b)%q(:, :, :, off + 1:off + sim%nflow), r, good)
         rate = max(rate, r)
         all_good = all_good .and. good
@@ -231,20 +237,19 @@ contains
       if (sim%ls%n > 0) call ghost_fill(sim, tstage)
       call timer_start(sim%timers, 'fluxes')
       do b = 1, size(sim%blocks)
-        associate (blk => sim%blocks(b))
+        call sim_block_work(sim, b)
+        associate (blk => sim%blocks(b), n => sim%blocks(b)%n)
           if (sim%ls%n > 0) then
             ! a block of void or rigid interior far from every surface holds a rest state
             ! that nothing changes: no fluxes (DESIGN: void costs nothing)
             if (sim%dormant(b)) then
-              if (stage == 1) blk%q0 = blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), &
-                1:sim%lay%bsize(3), :)
+              if (stage == 1) blk%q0 = blk%q(1:n(1), 1:n(2), 1:n(3), :)
               cycle
             end if
           end if
           call boundary_walls(sim%lay, sim%bc, blk, tstage, wall, vwall)
           ! the stage input, for the cell-local fallback (at stage 1 it is q0, kept anyway)
-          if (stage > 1) sim%qsave = blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), &
-            1:sim%lay%bsize(3), :)
+          if (stage > 1) sim%qsave = blk%q(1:n(1), 1:n(2), 1:n(3), :)
           call block_stage(sim, b, stage, wall, vwall, nf, failed)
           if (failed) exit
           ! the cell-local fallback: cells the update left inadmissible are redone with every
@@ -254,9 +259,9 @@ contains
           call find_trouble(sim, b, nbad, edge)
           if (nbad > 0 .and. .not. edge) then
             if (stage > 1) then
-              blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), :) = sim%qsave
+              blk%q(1:n(1), 1:n(2), 1:n(3), :) = sim%qsave
             else
-              blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), :) = blk%q0
+              blk%q(1:n(1), 1:n(2), 1:n(3), :) = blk%q0
             end if
             call block_stage(sim, b, stage, wall, vwall, nf, failed, sim%trouble)
             if (failed) exit
@@ -288,10 +293,10 @@ contains
     logical, intent(in), optional :: trouble(:, :, :)
     integer :: p, off
     integer :: lo(3), hi(3), n(3)
-    logical :: fresh(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3))
+    logical :: fresh(sim%blocks(b)%n(1), sim%blocks(b)%n(2), sim%blocks(b)%n(3))
+    n = sim%blocks(b)%n
     lo = 1 - sim%lay%ng
-    hi = sim%lay%bsize + sim%lay%ng
-    n = sim%lay%bsize
+    hi = n + sim%lay%ng
     associate (blk => sim%blocks(b))
       do p = 1, sim%nphase
         off = (p - 1) * sim%nflow
@@ -302,14 +307,14 @@ contains
           call ls_region(sim%ls, p, lo, hi, blk%q(:, :, :, sim%ils + 1:sim%nvar), &
             sim%gwork%bigphi(:, :, :, p), sim%gwork%owner(:, :, :, p))
           sim%gwork%isreal(:, :, :, p) = sim%gwork%bigphi(:, :, :, p) < 0.0_wp
-          call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
+          call euler_rhs(blk%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
             sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
             blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
             nf, failed, sim%gwork%bigphi(:, :, :, p), trouble, &
             surface_llf=sim%cfg%surface_flux == 'llf')
           if (sim%fix_mass) sim%bflux(:, p, b, stage) = sim%work%bflux
         else
-          call euler_rhs(sim%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
+          call euler_rhs(blk%lay, sim%eos(p), sim%st(p), sim%scheme, sim%flux, &
             sim%scalar_flux, blk%q(:, :, :, off + 1:off + sim%nflow), &
             blk%rhs(:, :, :, off + 1:off + sim%nflow), blk%offset, wall, vwall, sim%work, &
             nf, failed, trouble=trouble)
@@ -317,7 +322,7 @@ contains
       end do
       if (failed) return
       if (sim%ls%n > 0) call levelset_rates(sim, b)
-      call rk_stage_update(sim%lay, stage, sim%cfg%rk_order, sim%dt, blk%q, blk%q0, &
+      call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%dt, blk%q, blk%q0, &
         blk%rhs)
       do p = 1, sim%nphase
         off = (p - 1) * sim%nflow
@@ -329,20 +334,19 @@ contains
           fresh = sim%gwork%bigphi(1:n(1), 1:n(2), 1:n(3), p) < 0.0_wp .and. &
             .not. sim%gwork%isreal(1:n(1), 1:n(2), 1:n(3), p)
           sim%gwork%isreal(:, :, :, p) = sim%gwork%bigphi(:, :, :, p) < 0.0_wp
-          call plastic_correction(sim%lay, sim%eos(p), sim%st(p), sim%cfg%thermal, sim%dt, &
+          call plastic_correction(blk%lay, sim%eos(p), sim%st(p), sim%cfg%thermal, sim%dt, &
             blk%q(:, :, :, off + 1:off + sim%nflow), &
             sim%gwork%isreal(1:n(1), 1:n(2), 1:n(3), p), fresh)
         else
-          call plastic_correction(sim%lay, sim%eos(p), sim%st(p), sim%cfg%thermal, sim%dt, &
+          call plastic_correction(blk%lay, sim%eos(p), sim%st(p), sim%cfg%thermal, sim%dt, &
             blk%q(:, :, :, off + 1:off + sim%nflow))
         end if
       end do
       if (count(sim%ls%kind == ls_material) > 1) call ls_separate(sim%ls, &
-        blk%q(1:sim%lay%bsize(1), 1:sim%lay%bsize(2), 1:sim%lay%bsize(3), &
-        sim%ils + 1:sim%nvar))
-      if (any(sim%ls%kind == ls_material)) call gfm_drop_debris(sim%lay, sim%scn, &
+        blk%q(1:n(1), 1:n(2), 1:n(3), sim%ils + 1:sim%nvar))
+      if (any(sim%ls%kind == ls_material)) call gfm_drop_debris(blk%lay, sim%scn, &
         sim%ls, blk%offset, blk%q, sim%gcount, sim%lost)
-      if (sim%ls%n > 0) call gfm_rest(sim%lay, sim%scn, sim%ls, blk%q, sim%gwork)
+      if (sim%ls%n > 0) call gfm_rest(blk%lay, sim%scn, sim%ls, blk%q, sim%gwork)
     end associate
   end subroutine block_stage
 
@@ -356,14 +360,14 @@ contains
     logical, intent(out) :: edge
     integer :: j, k, p, off, n, d
     logical :: lo_shared, hi_shared
-    real(wp), dimension(sim%lay%bsize(1)) :: rho, u, v, w, pr, e, c2
-    n = sim%lay%bsize(1)
+    real(wp), dimension(sim%blocks(b)%n(1)) :: rho, u, v, w, pr, e, c2
+    n = sim%blocks(b)%n(1)
     sim%trouble = .false.
     associate (q => sim%blocks(b)%q)
       do p = 1, sim%nphase
         off = (p - 1) * sim%nflow
-        do k = 1, sim%lay%bsize(3)
-          do j = 1, sim%lay%bsize(2)
+        do k = 1, sim%blocks(b)%n(3)
+          do j = 1, sim%blocks(b)%n(2)
             rho = q(1:n, j, k, off + i_rho)
             if (all(rho > 0.0_wp .and. abs(q(1:n, j, k, off + i_en)) <= huge(1.0_wp))) then
               call primitive_row(sim%eos(p), n, q(1:n, j, k, off + i_rho), &
@@ -386,7 +390,7 @@ contains
     edge = .false.
     if (nbad == 0) return
     ! a side shared with another block (not a domain side, unless periodic)
-    associate (off3 => sim%blocks(b)%offset, nb => sim%lay%bsize, lay => sim%lay)
+    associate (off3 => sim%blocks(b)%offset, nb => sim%blocks(b)%n, lay => sim%lay)
       do d = 1, lay%ndim
         lo_shared = off3(d) > 0 .or. lay%periodic(d)
         hi_shared = off3(d) + nb(d) < lay%cells(d) .or. lay%periodic(d)
@@ -435,13 +439,15 @@ contains
     end do
     do b = 1, size(sim%blocks)
       if (.not. sim%dormant(b)) cycle
-      if (gfm_dormant(sim%lay, sim%scn, sim%ls, sim%blocks(b)%q, sim%gwork)) cycle
+      call sim_block_work(sim, b)
+      if (gfm_dormant(sim%blocks(b)%lay, sim%scn, sim%ls, sim%blocks(b)%q, sim%gwork)) cycle
       call halo_refresh(sim%plan, sim%blocks, b, sim%ils, 1)
       call boundary_apply(sim%lay, sim%bc, sim%blocks(b:b), sim%nvar, sim%nflow, tstage, &
         sim%nphase)
     end do
     do b = 1, size(sim%blocks)
-      call gfm_fill(sim%lay, sim%scn, sim%ls, sim%blocks(b)%q, sim%gwork, sim%gcount, &
+      call sim_block_work(sim, b)
+      call gfm_fill(sim%blocks(b)%lay, sim%scn, sim%ls, sim%blocks(b)%q, sim%gwork, sim%gcount, &
         sim%dormant(b))
     end do
     call timer_stop(sim%timers, 'gfm')
@@ -461,7 +467,7 @@ contains
     integer, intent(in) :: b
     integer :: l, iv, p
     real(wp) :: width
-    associate (q => sim%blocks(b)%q, rhs => sim%blocks(b)%rhs, n => sim%lay%bsize)
+    associate (q => sim%blocks(b)%q, rhs => sim%blocks(b)%rhs, n => sim%blocks(b)%n)
       width = real(sim%cfg%band, wp) * maxval(sim%lay%dx(1:sim%lay%ndim))
       p = -1
       do l = 1, sim%ls%n
@@ -477,7 +483,7 @@ contains
           if (p /= 0) call phase_velocity(sim, b, 0)
           p = 0
         end if
-        call levelset_advect_rhs(sim%lay%ndim, sim%lay%bsize, sim%lay%ng, sim%lay%dx, &
+        call levelset_advect_rhs(sim%lay%ndim, n, sim%lay%ng, sim%lay%dx, &
           q(:, :, :, iv), sim%vel, sim%ls_rhs)
         where (abs(q(1:n(1), 1:n(2), 1:n(3), iv)) > width) sim%ls_rhs = 0.0_wp
         rhs(:, :, :, iv) = sim%ls_rhs
@@ -500,7 +506,7 @@ contains
         return
       end if
       lo = 1 - sim%lay%ng
-      hi = sim%lay%bsize + sim%lay%ng
+      hi = sim%blocks(b)%n + sim%lay%ng
       do m = 1, sim%nphase
         call ls_region(sim%ls, m, lo, hi, q(:, :, :, sim%ils + 1:sim%nvar), &
           w%bigphi(:, :, :, m), w%owner(:, :, :, m))
@@ -524,21 +530,19 @@ contains
   !> advection put it.
   subroutine reinitialise(sim)
     type(sim_t), intent(inout) :: sim
-    integer :: it, stage, b, l, iv, lo(3), hi(3), nls
-    real(wp), allocatable :: phi0(:, :, :, :, :), old(:, :, :)
+    integer :: it, stage, b, l, iv, nls
+    type(level_sets_t), allocatable :: phi0(:)
+    real(wp), allocatable :: old(:, :, :)
     real(wp) :: dtau
     nls = sim%ls%n
     if (.not. any(sim%ls%kind == ls_material .or. sim%ls%kind == ls_void)) return
     call timer_start(sim%timers, 'reinit')
-    lo = 1 - sim%lay%ng
-    hi = sim%lay%bsize + sim%lay%ng
     call halo_exchange(sim%plan, sim%blocks, sim%nvar, sim%ils + 1)
     call boundary_apply(sim%lay, sim%bc, sim%blocks, sim%nvar, sim%nflow, sim%time, &
       sim%nphase, skip=sim%dormant, keep=sim%ils + 1)
-    allocate(phi0(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nls, size(sim%blocks)))
-    allocate(old(sim%lay%bsize(1), sim%lay%bsize(2), sim%lay%bsize(3)))
+    allocate(phi0(size(sim%blocks)))
     do b = 1, size(sim%blocks)
-      phi0(:, :, :, :, b) = sim%blocks(b)%q(:, :, :, sim%ils + 1:sim%nvar)
+      phi0(b)%phi = sim%blocks(b)%q(:, :, :, sim%ils + 1:sim%nvar)
     end do
     dtau = 0.5_wp * minval(sim%lay%dx(1:sim%lay%ndim))
     do it = 1, sim%cfg%band
@@ -549,12 +553,17 @@ contains
             sim%nphase, skip=sim%dormant, keep=sim%ils + 1)
         end if
         do b = 1, size(sim%blocks)
+          if (allocated(old)) then
+            if (any(shape(old) /= sim%blocks(b)%n)) deallocate(old)
+          end if
+          if (.not. allocated(old)) &
+            allocate(old(sim%blocks(b)%n(1), sim%blocks(b)%n(2), sim%blocks(b)%n(3)))
           do l = 1, nls
             if (sim%ls%kind(l) == ls_rigid) cycle
             iv = sim%ils + l
             call save_or_restore(b, l, stage)
-            call levelset_reinit_step(sim%lay%ndim, sim%lay%bsize, sim%lay%ng, sim%lay%dx, &
-              phi0(:, :, :, l, b), stage, dtau, sim%blocks(b)%q(:, :, :, iv), old, &
+            call levelset_reinit_step(sim%lay%ndim, sim%blocks(b)%n, sim%lay%ng, sim%lay%dx, &
+              phi0(b)%phi(:, :, :, l), stage, dtau, sim%blocks(b)%q(:, :, :, iv), old, &
               freeze=.true.)
             call keep_rk(b, l)
           end do
@@ -600,21 +609,20 @@ contains
     !> the band around the targets inside which nothing is done: above the measure's own
     !> noise (a disc of 8 cells' radius flying obliquely reads +-0.4 % mass, +-0.7 % energy)
     real(wp), parameter :: band_mass = 0.005_wp, band_energy = 0.0075_wp
-    integer :: b, p, off, id, s, lo(3), hi(3)
-    lo = 1 - sim%lay%ng
-    hi = sim%lay%bsize + sim%lay%ng
+    integer :: b, p, off, id, s
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
     width = 2.0_wp * h
     w = rk_weights(sim%cfg%rk_order)
     part = 0.0_wp
     do b = 1, size(sim%blocks)
       if (sim%dormant(b)) cycle
+      call sim_block_work(sim, b)
       id = sim%blocks(b)%id
       do p = 1, sim%nphase
         if (.not. sim%strong(p)) cycle
         off = (p - 1) * sim%nflow
         call region(b, p)
-        call content_block(sim%lay, sim%blocks(b)%offset, &
+        call content_block(sim%blocks(b)%lay, sim%blocks(b)%offset, &
           sim%blocks(b)%q(:, :, :, off + 1:off + sim%nflow), sim%gwork%bigphi(:, :, :, p), &
           h, width, part(1:n_content, p, id))
         do s = 1, 3
@@ -701,12 +709,13 @@ contains
     if (.not. touched) return
     do b = 1, size(sim%blocks)
       if (sim%dormant(b)) cycle
+      call sim_block_work(sim, b)
       do p = 1, sim%nphase
         ! a block with no surface cell of the phase has nothing to fix
         if (.not. (sim%strong(p) .and. part(3, p, sim%blocks(b)%id) > 0.0_wp)) cycle
         off = (p - 1) * sim%nflow
         call region(b, p)
-        call fix_block(sim%lay, sim%blocks(b)%q(:, :, :, off + 1:off + sim%nflow), &
+        call fix_block(sim%blocks(b)%lay, sim%blocks(b)%q(:, :, :, off + 1:off + sim%nflow), &
           sim%gwork%bigphi(:, :, :, p), width, fm(p), a_heat, a_mass)
       end do
     end do
@@ -718,21 +727,21 @@ contains
       integer, intent(in) :: bb, pp
       integer :: d, n(3), off3(3)
       cnt = 0.0_wp
-      n = sim%lay%bsize
+      n = sim%blocks(bb)%n
       off3 = sim%blocks(bb)%offset
       do d = 1, sim%lay%ndim
-        if (sim%bc%lo(d) == bc_outflow .and. off3(d) == 0) cnt = cnt + layer(d, 1, pp)
+        if (sim%bc%lo(d) == bc_outflow .and. off3(d) == 0) cnt = cnt + layer(bb, d, 1, pp)
         if (sim%bc%hi(d) == bc_outflow .and. off3(d) + n(d) == sim%lay%cells(d)) &
-          cnt = cnt + layer(d, n(d), pp)
+          cnt = cnt + layer(bb, d, n(d), pp)
       end do
     end function open_cells
 
-    !> the real cells of phase pp in layer m of direction d (of the block region() was given)
-    real(wp) function layer(d, m, pp) result(cnt)
-      integer, intent(in) :: d, m, pp
+    !> the real cells of phase pp in layer m of direction d of block bb (region() was given it)
+    real(wp) function layer(bb, d, m, pp) result(cnt)
+      integer, intent(in) :: bb, d, m, pp
       integer :: lo3(3), hi3(3)
       lo3 = 1
-      hi3 = sim%lay%bsize
+      hi3 = sim%blocks(bb)%n
       lo3(d) = m
       hi3(d) = m
       cnt = real(count(sim%gwork%bigphi(lo3(1):hi3(1), lo3(2):hi3(2), lo3(3):hi3(3), pp) &
@@ -747,8 +756,9 @@ contains
 
     subroutine region(bb, pp)
       integer, intent(in) :: bb, pp
-      call ls_region(sim%ls, pp, lo, hi, sim%blocks(bb)%q(:, :, :, sim%ils + 1:sim%nvar), &
-        sim%gwork%bigphi(:, :, :, pp), sim%gwork%owner(:, :, :, pp))
+      call ls_region(sim%ls, pp, 1 - sim%lay%ng, sim%blocks(bb)%n + sim%lay%ng, &
+        sim%blocks(bb)%q(:, :, :, sim%ils + 1:sim%nvar), sim%gwork%bigphi(:, :, :, pp), &
+        sim%gwork%owner(:, :, :, pp))
     end subroutine region
 
   end subroutine conserve_step

@@ -106,6 +106,11 @@ contains
     write(line, '(a,i0,a,3(i0,1x),a,3(i0,1x),a,i0,a)') 'grid: ', s%lay%ndim, 'D, cells ', &
       s%lay%cells, ', blocks of ', s%lay%bsize, '(', count(s%lay%active), ' active)'
     call log_line(line)
+    if (any(s%lay%nlast /= s%lay%bsize)) then
+      write(line, '(a,3(i0,1x),a)') 'grid: the last block along each direction has ', &
+        s%lay%nlast, 'cells'
+      call log_line(line)
+    end if
     write(line, '(a,i0,a,i0,a,i0)') 'ranks: ', comm_size(), '; blocks per rank: min ', &
       comm_min(nb), ', max ', comm_max(nb)
     call log_line(line)

@@ -106,8 +106,8 @@ contains
       do d = 1, lay%ndim
         do s = -1, 1, 2
           call side_condition(lay, bc, blocks(b)%id, d, s, time, kind, vwall)
-          if (kind /= 0) call face_fill(lay, blocks(b)%q, m1, nvar, nflow, np, d, s, kind, &
-            vwall)
+          if (kind /= 0) call face_fill(blocks(b)%lay, blocks(b)%q, m1, nvar, nflow, np, d, &
+            s, kind, vwall)
         end do
       end do
     end do
@@ -142,7 +142,7 @@ contains
     type(block_t), intent(inout) :: blk
     integer, intent(in) :: m1, nvar
     integer :: di, dj, dk, nbr, i, j, k, m, lo(3), hi(3), n(3), g(3), dmax(3)
-    n = lay%bsize
+    n = blk%n
     g = lay%ng
     dmax = merge(1, 0, g > 0)
     do dk = -dmax(3), dmax(3)
@@ -168,10 +168,11 @@ contains
     end do
   end subroutine clamp_fill
 
-  !> One face of a block, side s (-1 low, +1 high) of direction d, over the full extent of
-  !> the other directions including their halos, variables m1..nvar: halo cell n + l
-  !> mirrors cell n + 1 - l (outflow: copies cell n). The copy reads interior cells along d
-  !> only, so it runs variable by variable; the mirror's sign changes follow per cell.
+  !> One face of a block (lay: its view, m_layout), side s (-1 low, +1 high) of direction d,
+  !> over the full extent of the other directions including their halos, variables
+  !> m1..nvar: halo cell n + l mirrors cell n + 1 - l (outflow: copies cell n). The copy
+  !> reads interior cells along d only, so it runs variable by variable; the mirror's sign
+  !> changes follow per cell.
   subroutine face_fill(lay, q, m1, nvar, nflow, np, d, s, kind, vwall)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: m1, nvar, nflow, np, d, s, kind

@@ -1,13 +1,18 @@
 !> The block layout of the global grid (DESIGN section 3): how many blocks, where each one
 !> sits, which rank owns it, and who its neighbours are. The grid is uniform; block ids are
 !> global, 1-based, x fastest: id = 1 + ib + nb(1) * (jb + nb(2) * kb) with ib, jb, kb from 0.
+!> Along each direction every block has bsize cells except the last, which holds what is
+!> left: cells - (nb - 1) * bsize, between n_halo and bsize + n_halo - 1 cells (a remainder
+!> thinner than the halo joins the last whole block, so that every block can fill a
+!> neighbour's halo). Each block's arrays have its own extent; block_view gives a block its
+!> own layout (bsize = its extent), which is what the kernels take.
 !> Nothing here is of the size of the global grid: only per-block arrays.
 module m_layout
   use m_kinds, only: wp
   implicit none
   private
   public :: layout_t, layout_init, block_coords, block_id, block_neighbor, block_offset
-  public :: cell_volume
+  public :: block_extent, block_view, cell_volume, active_cells
   public :: n_halo, no_neighbor, wall_neighbor
 
   integer, parameter :: n_halo = 4          !< halo depth in every active direction
@@ -17,8 +22,10 @@ module m_layout
   type :: layout_t
     integer :: ndim = 1
     integer :: cells(3) = 1          !< global cells per direction
-    integer :: bsize(3) = 1          !< cells per block per direction
+    integer :: bsize(3) = 1          !< cells per block per direction (all but the last)
     integer :: nb(3) = 1             !< blocks per direction
+    integer :: nlast(3) = 1          !< cells of the last block per direction
+    integer :: nmax(3) = 1           !< largest block extent per direction
     integer :: ng(3) = 0             !< halo depth per direction (0 in inactive directions)
     integer :: nblocks = 0           !< nb(1) * nb(2) * nb(3)
     real(wp) :: lo(3) = 0.0_wp, hi(3) = 1.0_wp, dx(3) = 1.0_wp
@@ -45,13 +52,18 @@ contains
     lay%periodic = .false.
     do d = 1, ndim
       lay%cells(d) = cells(d)
-      lay%bsize(d) = bsize(d)
+      lay%bsize(d) = min(bsize(d), cells(d))
       lay%ng(d) = n_halo
       lay%lo(d) = lo(d)
       lay%hi(d) = hi(d)
       lay%periodic(d) = periodic(d)
     end do
     lay%nb = lay%cells / lay%bsize
+    ! a remainder of at least the halo depth is a block of its own, a thinner one joins
+    ! the last whole block
+    where (mod(lay%cells, lay%bsize) >= max(lay%ng, 1)) lay%nb = lay%nb + 1
+    lay%nlast = lay%cells - (lay%nb - 1) * lay%bsize
+    lay%nmax = max(lay%bsize, lay%nlast)
     lay%dx = (lay%hi - lay%lo) / real(lay%cells, wp)
     lay%nblocks = product(lay%nb)
     lay%axisymmetric = axisymmetric
@@ -75,6 +87,46 @@ contains
     integer, intent(in) :: ijk(3)
     block_id = 1 + ijk(1) + lay%nb(1) * (ijk(2) + lay%nb(2) * ijk(3))
   end function block_id
+
+  !> Cells of block id per direction (bsize, or nlast for the last block along it).
+  !> The cells of the active blocks of the whole grid (blocks have their own extents).
+  pure real(wp) function active_cells(lay) result(cells)
+    type(layout_t), intent(in) :: lay
+    integer :: id
+    cells = 0.0_wp
+    do id = 1, lay%nblocks
+      if (lay%active(id)) cells = cells + real(product(block_extent(lay, id)), wp)
+    end do
+  end function active_cells
+
+  pure function block_extent(lay, id) result(n)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: id
+    integer :: n(3)
+    n = merge(lay%nlast, lay%bsize, block_coords(lay, id) == lay%nb - 1)
+  end function block_extent
+
+  !> The layout as block id sees it: the same grid, with bsize its own extent (what the
+  !> kernels loop over and declare their arrays with), and no per-block tables (a view is
+  !> for kernels, which never ask for the neighbours).
+  pure function block_view(lay, id) result(v)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: id
+    type(layout_t) :: v
+    v%ndim = lay%ndim
+    v%cells = lay%cells
+    v%bsize = block_extent(lay, id)
+    v%nb = lay%nb
+    v%nlast = lay%nlast
+    v%nmax = lay%nmax
+    v%ng = lay%ng
+    v%nblocks = lay%nblocks
+    v%lo = lay%lo
+    v%hi = lay%hi
+    v%dx = lay%dx
+    v%periodic = lay%periodic
+    v%axisymmetric = lay%axisymmetric
+  end function block_view
 
   !> Global index offset of a block: its local cell i is global cell offset(1) + i.
   pure function block_offset(lay, id) result(off)

@@ -25,7 +25,7 @@ module m_hdf5_io
     H5T_NATIVE_DOUBLE, H5T_NATIVE_INTEGER, H5T_NATIVE_CHARACTER, H5T_IEEE_F64LE, &
     H5T_STD_I32LE, H5T_STR_NULLPAD_F, H5T_STRING_F
   use m_kinds, only: wp
-  use m_layout, only: layout_t, block_offset
+  use m_layout, only: layout_t, block_offset, block_extent
   use m_comm, only: comm_is_root, comm_bcast, comm_world_handles
   use m_errors, only: fatal
   implicit none
@@ -170,8 +170,9 @@ contains
   ! Fields: one global dataset per field, one hyperslab per block
   ! ---------------------------------------------------------------------------------------
 
-  !> Write the interior cells of this rank's blocks: data(:, :, :, k) is block ids(k).
-  !> Creates dset_path (and any missing groups on the way) with fill value 0.
+  !> Write the interior cells of this rank's blocks: data(:, :, :, k) is block ids(k), at the
+  !> largest block extent (lay%nmax): its first block_extent cells along each direction are
+  !> the block's. Creates dset_path (and any missing groups on the way) with fill value 0.
   subroutine h5_write_field(f, dset_path, lay, ids, data)
     type(h5_file_t), intent(in) :: f
     character(len=*), intent(in) :: dset_path
@@ -184,7 +185,7 @@ contains
     call require_open(f, 'h5_write_field')
     call check_blocks(f, dset_path, lay, ids, shape(data))
     gdims = int(lay%cells, hsize_t)
-    bdims = int(lay%bsize, hsize_t)
+    bdims = int(lay%nmax, hsize_t)
     call h5screate_simple_f(3, gdims, filespace, err)
     call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, err)
     call h5pset_fill_value_f(dcpl, H5T_NATIVE_DOUBLE, 0.0_wp, err)
@@ -199,6 +200,7 @@ contains
     do k = 1, size(ids)
       if (.not. lay%active(ids(k))) cycle
       call select_block(filespace, lay, ids(k))
+      call select_block(memspace, lay, ids(k), in_memory=.true.)
       call h5dwrite_f(dset, H5T_NATIVE_DOUBLE, data(:, :, :, k), bdims, err, &
         mem_space_id=memspace, file_space_id=filespace)
       if (err < 0) call fatal(here, 'cannot write block ' // int_text(ids(k)) // ' of ' // &
@@ -211,7 +213,7 @@ contains
   end subroutine h5_write_field
 
   !> Read the interior cells of this rank's blocks from dset_path, whichever rank wrote
-  !> them. An inactive block comes back as 0.
+  !> them, into data as h5_write_field has it. An inactive block comes back as 0.
   subroutine h5_read_field(f, dset_path, lay, ids, data)
     type(h5_file_t), intent(in) :: f
     character(len=*), intent(in) :: dset_path
@@ -232,14 +234,13 @@ contains
     if (any(gdims /= int(lay%cells, hsize_t))) call fatal(here, 'dataset ' // dset_path // &
       ' in ' // f%path // ' holds ' // dims_text(int(gdims)) // ' cells but the run has ' // &
       dims_text(lay%cells) // ': restart with the &domain cells of the run that wrote it')
-    bdims = int(lay%bsize, hsize_t)
+    bdims = int(lay%nmax, hsize_t)
     call h5screate_simple_f(3, bdims, memspace, err)
     do k = 1, size(ids)
-      if (.not. lay%active(ids(k))) then
-        data(:, :, :, k) = 0.0_wp
-        cycle
-      end if
+      data(:, :, :, k) = 0.0_wp
+      if (.not. lay%active(ids(k))) cycle
       call select_block(filespace, lay, ids(k))
+      call select_block(memspace, lay, ids(k), in_memory=.true.)
       call h5dread_f(dset, H5T_NATIVE_DOUBLE, data(:, :, :, k), bdims, err, &
         mem_space_id=memspace, file_space_id=filespace)
       if (err < 0) call fatal(here, 'cannot read block ' // int_text(ids(k)) // ' of ' // &
@@ -647,29 +648,32 @@ contains
     end do
   end function path_exists
 
-  !> Select the interior cells of block id in the global dataspace.
-  subroutine select_block(space, lay, id)
+  !> Select the interior cells of block id in the global dataspace, or (in_memory) in the
+  !> block's buffer of the largest block extent.
+  subroutine select_block(space, lay, id, in_memory)
     integer(hid_t), intent(in) :: space
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: id
+    logical, intent(in), optional :: in_memory
     integer(hsize_t) :: start(3), count(3)
     integer :: err
     start = int(block_offset(lay, id), hsize_t)
-    count = int(lay%bsize, hsize_t)
+    if (present(in_memory)) start = 0
+    count = int(block_extent(lay, id), hsize_t)
     call h5sselect_hyperslab_f(space, H5S_SELECT_SET_F, start, count, err)
     if (err < 0) call fatal(here, 'cannot select block ' // int_text(id) // &
       ' in the file dataspace: the layout does not match the dataset')
   end subroutine select_block
 
-  !> Block ids in range and data of shape (bsize, size(ids)).
+  !> Block ids in range and data of shape (nmax, size(ids)).
   subroutine check_blocks(f, dset_path, lay, ids, data_shape)
     type(h5_file_t), intent(in) :: f
     character(len=*), intent(in) :: dset_path
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: ids(:), data_shape(4)
-    if (any(data_shape(1:3) /= lay%bsize) .or. data_shape(4) /= size(ids)) &
+    if (any(data_shape(1:3) /= lay%nmax) .or. data_shape(4) /= size(ids)) &
       call fatal(here, dset_path // ' of ' // f%path // ': data has shape ' // &
-      dims_text(data_shape) // ', not the block size ' // dims_text(lay%bsize) // &
+      dims_text(data_shape) // ', not the block size ' // dims_text(lay%nmax) // &
       ' times ' // int_text(size(ids)) // ' blocks (a bug in the caller)')
     if (size(ids) == 0) return
     if (minval(ids) < 1 .or. maxval(ids) > lay%nblocks) call fatal(here, dset_path // &

@@ -4,10 +4,12 @@
 !> with nonblocking point-to-point calls (m_comm). The plan is built once from the layout:
 !> both sides of a message list its pieces in the same order, by (receiving block id,
 !> direction), so no piece carries a header. Regions with no neighbour block (domain
-!> boundary, rigid obstacle) are left to m_boundary.
+!> boundary, rigid obstacle) are left to m_boundary. Blocks may differ in extent (the last
+!> block along a direction, m_layout): a box takes the extent of the block it lies in, and
+!> across a face the two blocks agree in every other direction.
 module m_halo
   use m_kinds, only: wp
-  use m_layout, only: layout_t, block_neighbor
+  use m_layout, only: layout_t, block_neighbor, block_extent
   use m_blocks, only: block_t
   use m_comm, only: comm_rank, comm_exchange_t, exchange_start, exchange_wait
   implicit none
@@ -41,16 +43,17 @@ module m_halo
 
 contains
 
-  !> Cell box of a block for direction dir: the halo to fill (role = 'h'), or the interior
+  !> Cell box of block id for direction dir: the halo to fill (role = 'h'), or the interior
   !> cells that a neighbour in direction dir needs from it (role = 's').
-  pure subroutine halo_region(lay, dir, role, lo, hi)
+  pure subroutine halo_region(lay, id, dir, role, lo, hi)
     type(layout_t), intent(in) :: lay
-    integer, intent(in) :: dir(3)
+    integer, intent(in) :: id, dir(3)
     character, intent(in) :: role
     integer, intent(out) :: lo(3), hi(3)
-    integer :: d, n, g
+    integer :: d, n, g, ext(3)
+    ext = block_extent(lay, id)
     do d = 1, 3
-      n = lay%bsize(d)
+      n = ext(d)
       g = lay%ng(d)
       select case (dir(d))
       case (-1)
@@ -115,8 +118,8 @@ contains
             if (nbr <= 0) cycle
             kdir = 1 + (di + 1) + 3 * (dj + 1) + 9 * (dk + 1)
             pc%local = b
-            call halo_region(lay, dir, 'h', pc%lo, pc%hi)
-            call halo_region(lay, -dir, 's', pc%slo, pc%shi)
+            call halo_region(lay, blocks(b)%id, dir, 'h', pc%lo, pc%hi)
+            call halo_region(lay, nbr, -dir, 's', pc%slo, pc%shi)
             if (lay%owner(nbr) == me) then
               pc%src_local = local_of(nbr)
               plan%ncopy = plan%ncopy + 1
@@ -127,7 +130,7 @@ contains
               pc%key2 = kdir
               plan%partner(r)%recv = [plan%partner(r)%recv, pc]
               ! what the neighbour needs from this block: its halo in direction -dir
-              call halo_region(lay, dir, 's', pc%lo, pc%hi)
+              call halo_region(lay, blocks(b)%id, dir, 's', pc%lo, pc%hi)
               pc%key1 = nbr
               pc%key2 = 1 + (1 - di) + 3 * (1 - dj) + 9 * (1 - dk)
               plan%partner(r)%send = [plan%partner(r)%send, pc]

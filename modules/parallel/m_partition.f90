@@ -5,7 +5,7 @@
 module m_partition
   use, intrinsic :: iso_c_binding, only: c_int32_t, c_ptr, c_null_ptr, c_int
   use m_kinds, only: wp
-  use m_layout, only: layout_t, block_neighbor
+  use m_layout, only: layout_t, block_neighbor, block_extent
   use m_comm, only: comm_is_root, comm_bcast, comm_size
   use m_errors, only: stop_collective
   implicit none
@@ -46,7 +46,7 @@ contains
     integer, allocatable :: vertex_of(:), block_of(:)
     integer(c_int32_t), allocatable :: xadj(:), adjncy(:), vwgt(:), adjwgt(:), part(:)
     integer(c_int32_t) :: nv, ncon, np, objval
-    integer :: id, v, d, s, nbr, dir(3), ne, ierr, area
+    integer :: id, v, d, s, nbr, dir(3), ne, ierr, area, ext(3)
     allocate(vertex_of(lay%nblocks), block_of(lay%nblocks))
     vertex_of = 0
     nv = 0
@@ -66,8 +66,10 @@ contains
     do v = 1, nv
       id = block_of(v)
       vwgt(v) = int(max(1, work(id)), c_int32_t)
+      ext = block_extent(lay, id)
       do d = 1, lay%ndim
-        area = product(lay%bsize) / lay%bsize(d)
+        ! the face's cells (the two blocks have the same extent across it)
+        area = product(ext) / ext(d)
         do s = -1, 1, 2
           dir = 0
           dir(d) = s

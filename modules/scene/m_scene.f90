@@ -6,7 +6,7 @@
 module m_scene
   use m_kinds, only: wp
   use m_config, only: body_t
-  use m_layout, only: layout_t, block_offset
+  use m_layout, only: layout_t, block_offset, block_extent
   implicit none
   private
   public :: inside_body, cell_centre, rigid_block_status, body_distance
@@ -87,19 +87,20 @@ contains
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: id
     type(body_t), intent(in) :: body
-    integer :: i, j, k, off(3), nin
+    integer :: i, j, k, off(3), nin, n(3)
     off = block_offset(lay, id)
+    n = block_extent(lay, id)
     nin = 0
-    do k = 1, lay%bsize(3)
-      do j = 1, lay%bsize(2)
-        do i = 1, lay%bsize(1)
+    do k = 1, n(3)
+      do j = 1, n(2)
+        do i = 1, n(1)
           if (inside_body(body, lay%ndim, cell_centre(lay, off, i, j, k))) nin = nin + 1
         end do
       end do
     end do
     status = 1
     if (nin == 0) status = 0
-    if (nin == product(lay%bsize)) status = 2
+    if (nin == product(n)) status = 2
   end function rigid_block_status
 
 end module m_scene

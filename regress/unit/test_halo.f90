@@ -1,6 +1,7 @@
 !> Unit test of the halo exchange (m_halo) on any number of ranks: in 2D and 3D layouts with
-!> several blocks per rank, periodic and non-periodic directions and an inactive block, every
-!> interior cell holds a code of its global index; after one exchange every halo cell whose
+!> several blocks per rank, periodic and non-periodic directions, an inactive block, and cells
+!> that are not a multiple of block (last blocks of another extent), every interior cell holds
+!> a code of its global index; after one exchange every halo cell whose
 !> source cell exists (through a neighbour block, with periodic wrap) must hold the code of
 !> that source cell, for every variable. A second exchange of new values skips every other
 !> block for variables 1-2 (halo_exchange's skip and keep): those keep the old values where
@@ -22,6 +23,10 @@ program test_halo
   call run_case(2, [32, 32, 1], [8, 8, 1], [.false., .true., .false.], 6)
   call run_case(3, [16, 16, 12], [4, 8, 4], [.true., .true., .true.], 0)
   call run_case(3, [16, 12, 16], [8, 4, 4], [.false., .true., .false.], 5)
+  ! cells not a multiple of block: a short last block (6, 4 cells) and a remainder thinner
+  ! than the halo joined to the last block (10, 5 cells), with periodic wrap across them
+  call run_case(2, [30, 26, 1], [8, 8, 1], [.true., .false., .false.], 0)
+  call run_case(3, [18, 13, 12], [8, 4, 4], [.true., .true., .false.], 3)
   if (comm_sum(int(nbad, i8)) == 0) then
     if (comm_rank() == 0) write(6, '(a,i0,a)') 'PASS test_halo (', comm_size(), ' ranks)'
     call comm_exit(0)
@@ -56,13 +61,13 @@ contains
     do b = 1, size(blocks)
       blocks(b)%q = -1.0_wp
     end do
-    call fill_interior(lay, blocks, 0.0_wp)
+    call fill_interior(blocks, 0.0_wp)
     call halo_exchange(plan, blocks, 3)
     allocate(skip(size(blocks)))
     skip = .false.
     call check_halos(lay, blocks, skip, 0.0_wp)
     skip = [(mod(b, 2) == 1, b = 1, size(blocks))]
-    call fill_interior(lay, blocks, 0.5_wp)
+    call fill_interior(blocks, 0.5_wp)
     call halo_exchange(plan, blocks, 3, skip=skip, keep=3)
     call check_halos(lay, blocks, skip, 0.5_wp)
     do b = 1, size(blocks)
@@ -72,16 +77,15 @@ contains
     call check_halos(lay, blocks, skip, 0.5_wp)
   end subroutine run_case
 
-  subroutine fill_interior(lay, blocks, shift)
-    type(layout_t), intent(in) :: lay
+  subroutine fill_interior(blocks, shift)
     type(block_t), intent(inout) :: blocks(:)
     real(wp), intent(in) :: shift
     integer :: b, i, j, k, m
     do b = 1, size(blocks)
       do m = 1, 3
-        do k = 1, lay%bsize(3)
-          do j = 1, lay%bsize(2)
-            do i = 1, lay%bsize(1)
+        do k = 1, blocks(b)%n(3)
+          do j = 1, blocks(b)%n(2)
+            do i = 1, blocks(b)%n(1)
               blocks(b)%q(i, j, k, m) = code(blocks(b)%offset + [i, j, k], m) + shift
             end do
           end do
@@ -101,14 +105,14 @@ contains
     real(wp) :: expect
     checked = 0
     do b = 1, size(blocks)
-      do k = 1 - lay%ng(3), lay%bsize(3) + lay%ng(3)
-        do j = 1 - lay%ng(2), lay%bsize(2) + lay%ng(2)
-          do i = 1 - lay%ng(1), lay%bsize(1) + lay%ng(1)
+      do k = 1 - lay%ng(3), blocks(b)%n(3) + lay%ng(3)
+        do j = 1 - lay%ng(2), blocks(b)%n(2) + lay%ng(2)
+          do i = 1 - lay%ng(1), blocks(b)%n(1) + lay%ng(1)
             dir = 0
             g = [i, j, k]
             do d = 1, 3
               if (g(d) < 1) dir(d) = -1
-              if (g(d) > lay%bsize(d)) dir(d) = 1
+              if (g(d) > blocks(b)%n(d)) dir(d) = 1
             end do
             if (all(dir == 0)) cycle
             nbr = block_neighbor(lay, blocks(b)%id, dir)

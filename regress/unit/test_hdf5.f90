@@ -12,7 +12,7 @@ program test_hdf5
   use m_kinds, only: wp, i8
   use m_comm, only: comm_init, comm_rank, comm_size, comm_is_root, comm_max, comm_exit, &
     comm_barrier
-  use m_layout, only: layout_t, layout_init, block_offset
+  use m_layout, only: layout_t, layout_init, block_offset, block_extent
   use m_hdf5_io, only: h5_file_t, h5_init, h5_finalize, h5_create, h5_open_read, h5_close, &
     h5_write_attr, h5_read_attr, h5_write_field, h5_read_field, h5_write_text, &
     h5_read_text, h5_exists, h5_has_attr
@@ -41,6 +41,9 @@ program test_hdf5
     [2.0_wp, 1.5_wp, 1.0_wp], [8, 15], .false.)
   call run_case('3d', 3, [12, 8, 16], [4, 4, 4], [-1.0_wp, 0.25_wp, 3.0_wp], &
     [2.0_wp, 1.5_wp, 4.0_wp], [5, 18], .true.)
+  ! cells not a multiple of block: last blocks of 6 (x) and 10 (y: 2 cells joined) cells
+  call run_case('2d_uneven', 2, [30, 18, 1], [8, 8, 1], [-1.0_wp, 0.25_wp, 0.0_wp], &
+    [2.0_wp, 1.5_wp, 1.0_wp], [6], .false.)
 
   call h5_finalize()
   n_fail = comm_max(n_fail)
@@ -115,7 +118,7 @@ contains
       k = k + 1
     end do
     call my_blocks(lay, ids)
-    allocate(data(bsize(1), bsize(2), bsize(3), size(ids)))
+    allocate(data(lay%nmax(1), lay%nmax(2), lay%nmax(3), size(ids)))
 
     ! Rank 0's deck and title are what the file must hold; the other ranks pass junk.
     deck = ''
@@ -159,7 +162,7 @@ contains
     call my_blocks(lay, ids)
     if (comm_is_root()) ids = [ids, inactive]
     deallocate(data)
-    allocate(data(bsize(1), bsize(2), bsize(3), size(ids)))
+    allocate(data(lay%nmax(1), lay%nmax(2), lay%nmax(3), size(ids)))
 
     call h5_open_read(f, path)
     do m = 1, n_fields
@@ -219,12 +222,14 @@ contains
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: ids(:), m
     real(wp), intent(out) :: data(:, :, :, :)
-    integer :: k, i, j, l, off(3)
+    integer :: k, i, j, l, off(3), n(3)
+    data = 0.0_wp
     do k = 1, size(ids)
       off = block_offset(lay, ids(k))
-      do l = 1, lay%bsize(3)
-        do j = 1, lay%bsize(2)
-          do i = 1, lay%bsize(1)
+      n = block_extent(lay, ids(k))
+      do l = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
             data(i, j, l, k) = known_value(off(1) + i, off(2) + j, off(3) + l, m)
           end do
         end do
@@ -237,14 +242,15 @@ contains
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: ids(:), m
     real(wp), intent(in) :: data(:, :, :, :)
-    integer :: k, i, j, l, off(3)
+    integer :: k, i, j, l, off(3), n(3)
     real(wp) :: want
     character(len=160) :: msg
     do k = 1, size(ids)
       off = block_offset(lay, ids(k))
-      do l = 1, lay%bsize(3)
-        do j = 1, lay%bsize(2)
-          do i = 1, lay%bsize(1)
+      n = block_extent(lay, ids(k))
+      do l = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
             want = 0.0_wp
             if (lay%active(ids(k))) want = known_value(off(1) + i, off(2) + j, off(3) + l, m)
             if (.not. same_bits(data(i, j, l, k), want)) then
