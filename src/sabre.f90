@@ -8,7 +8,7 @@ program sabre
   use m_kinds, only: wp, i8, path_len, line_len
   use m_config, only: config_t
   use m_comm, only: comm_init, comm_exit, comm_size, comm_wtime, comm_sum, comm_min, &
-    comm_max, comm_rank
+    comm_max, comm_rank, comm_backend_name
   use m_errors, only: log_open, log_close, log_line
   use m_deck, only: deck_read, deck_prepare_output
   use m_hdf5_io, only: h5_init, h5_finalize
@@ -102,8 +102,8 @@ contains
     write(line, '(a,i0,a,3(i0,1x),a,3(i0,1x),a,i0,a)') 'grid: ', s%lay%ndim, 'D, cells ', &
       s%lay%cells, ', blocks of ', s%lay%bsize, '(', count(s%lay%active), ' active)'
     call log_line(line)
-    write(line, '(a,i0,a,i0,a,i0)') 'ranks: ', comm_size(), '; blocks per rank: min ', &
-      comm_min(nb), ', max ', comm_max(nb)
+    write(line, '(a,i0,a,i0,a,i0)') 'ranks: ', comm_size(), ' (' // comm_backend_name // &
+      ' build); blocks per rank: min ', comm_min(nb), ', max ', comm_max(nb)
     call log_line(line)
     write(line, '(a,a,a,a,a,i0,a,f5.3)') 'numerics: scheme ', trim(s%cfg%scheme), ', flux ', &
       trim(s%cfg%flux), ', rk_order ', s%cfg%rk_order, ', cfl ', s%cfg%cfl
