@@ -1,7 +1,9 @@
 # SABRE build. `make run` and `make check` do all the set-up on a fresh Debian 12 machine.
 #   make            bin/sabre (optimised: -O3 -march=native)
+#   make COMM=caf   bin/sabre-caf: the coarray back end of comm (OpenCoarrays; run by cafrun)
 #   make deps       install the missing Debian packages (compilers, MPI, HDF5, METIS, Python)
-#   make check      check build (run-time checks, FPE traps) + unit tests + regression
+#   make check      check build (run-time checks, FPE traps) + unit tests + regression,
+#                   then the coarray check build's pass, bit-identical to the MPI build
 #   make run        the default deck, then VTK files and a PNG of its history
 #   make verify     convergence studies against exact solutions (tables/plots for the manual),
 #                   gas dynamics and elastic-plastic solids
@@ -44,13 +46,23 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_config core/m_state
 DRIVER := m_simulation m_output m_run_report m_timeloop
 SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))
+# comm back end (manual/design.md section 3): COMM=mpi (default) builds bin/sabre and
+# bin/sabre-check as always; `make COMM=caf` builds bin/sabre-caf, the coarray back end
+# (OpenCoarrays' caf), in build/rel-caf and build/chk-caf, beside the MPI build. The back
+# end compiles just before m_comm, which all other modules use.
+COMM ?= mpi
+CAF_FC := caf
+CAF_SRC := $(subst modules/parallel/m_comm.f90,modules/parallel/m_comm_caf.f90 \
+  modules/parallel/m_comm.f90,$(SRC))
+SRC := $(subst modules/parallel/m_comm.f90,modules/parallel/m_comm_mpi.f90 \
+  modules/parallel/m_comm.f90,$(SRC))
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset test_gfm
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
-.PHONY: all deps check run verify bench clean unit accuracy accuracy-taylor stability
-all: bin/sabre
+.PHONY: all deps check check-caf run verify bench clean unit accuracy accuracy-taylor stability
+all: $(if $(filter caf,$(COMM)),bin/sabre-caf,bin/sabre)
 
 bin/sabre: $(REL_OBJ) build/rel/src/sabre.o | bin
 	$(FC) $(REL_FLAGS) -o $@ $^ $(LIBS)
@@ -77,17 +89,64 @@ prev :=
 $(foreach o,$(CHK_OBJ) build/chk/src/sabre.o,$(if $(prev),$(eval $(o): $(prev)))$(eval prev := $(o)))
 $(REL_OBJ) $(CHK_OBJ): Makefile
 
+# ---- the coarray build (COMM=caf): the same sources with m_comm_caf, compiled by caf ----
+CAF_REL_OBJ := $(patsubst %.f90,build/rel-caf/%.o,$(CAF_SRC))
+CAF_CHK_OBJ := $(patsubst %.f90,build/chk-caf/%.o,$(CAF_SRC))
+CAF_UNIT_BIN := bin/test_halo-caf
+# cases the coarray build runs in `make check` (regress/run --identical-to: every plot file
+# of every run bit-identical to the MPI build's), one or two per code path, to keep the pass
+# to a few minutes: gas 1D (ideal, stiffened), 2D and 3D on 1-4 images, restart,
+# axisymmetric, moving piston, solids 1D and 2D, rigid level set, gas-water phases, void
+# carving, solid bodies with level sets, colliding bodies on 1-4 images, deck errors.
+# Left out: cases that repeat a path (more gas decks, the other restart, 3D Taylor bar) and
+# the command cases that drive tools (their solver runs are MPI-build runs)
+CAF_CASES := sod_eno3_llf_400 water_shock_tube implosion_2d_ranks blast_3d_ranks \
+  implosion_2d_restart sedov_axi_small piston_gas copper_impact_250 elastic_wave_2d \
+  cylinder_mach3_coarse gas_water_tube plate_hole taylor_bar_short disc_impact_ranks bad_decks
+# a 1-image coarray run (a singleton, as regress/run starts np = 1) cannot use Open MPI's
+# UCX one-sided component (MPI_ERR_WIN at start-up): any other (Open MPI picks; pt2pt works)
+CAF_ENV := OMPI_MCA_osc=^ucx
+
+bin/sabre-caf: $(CAF_REL_OBJ) build/rel-caf/src/sabre.o | bin
+	$(CAF_FC) $(REL_FLAGS) -o $@ $^ $(LIBS)
+
+bin/sabre-caf-check: $(CAF_CHK_OBJ) build/chk-caf/src/sabre.o | bin
+	$(CAF_FC) $(CHK_FLAGS) -o $@ $^ $(LIBS)
+
+bin/test_%-caf: regress/unit/test_%.f90 $(CAF_CHK_OBJ) | bin
+	$(CAF_FC) $(CHK_FLAGS) -Jbuild/chk-caf/mod -o $@ $< $(CAF_CHK_OBJ) $(LIBS)
+
+build/rel-caf/%.o: %.f90
+	@mkdir -p $(dir $@) build/rel-caf/mod
+	$(CAF_FC) $(REL_FLAGS) -Jbuild/rel-caf/mod -c $< -o $@
+build/chk-caf/%.o: %.f90
+	@mkdir -p $(dir $@) build/chk-caf/mod
+	$(CAF_FC) $(CHK_FLAGS) -Jbuild/chk-caf/mod -c $< -o $@
+
+prev :=
+$(foreach o,$(CAF_REL_OBJ) build/rel-caf/src/sabre.o,$(if $(prev),$(eval $(o): $(prev)))$(eval prev := $(o)))
+prev :=
+$(foreach o,$(CAF_CHK_OBJ) build/chk-caf/src/sabre.o,$(if $(prev),$(eval $(o): $(prev)))$(eval prev := $(o)))
+$(CAF_REL_OBJ) $(CAF_CHK_OBJ): Makefile
+
+# the coarray build's regression pass, after the MPI pass (whose outputs it compares with)
+check-caf:
+	$(MAKE) bin/sabre-caf-check
+	$(CAF_ENV) SABRE=bin/sabre-caf-check MPIRUN=cafrun $(PY) regress/run \
+	  --out regress/out/caf --identical-to regress/out --only $(CAF_CASES)
+
 bin:
 	@mkdir -p bin
 
 deps:
 	@tools/install-deps
 
-unit: $(UNIT_BIN)
+unit: $(UNIT_BIN) $(CAF_UNIT_BIN)
 
 check: deps
-	$(MAKE) bin/sabre-check unit bin/sabre
+	$(MAKE) bin/sabre-check unit bin/sabre bin/sabre-caf-check
 	SABRE=bin/sabre-check $(PY) regress/run
+	$(MAKE) check-caf
 
 run: deps
 	$(MAKE) bin/sabre

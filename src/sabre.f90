@@ -9,7 +9,8 @@ program sabre
   use, intrinsic :: iso_fortran_env, only: compiler_version, compiler_options
   use m_kinds, only: wp, path_len, line_len
   use m_config, only: config_t
-  use m_comm, only: comm_init, comm_exit, comm_size, comm_wtime, comm_min, comm_max, comm_rank
+  use m_comm, only: comm_init, comm_exit, comm_size, comm_wtime, comm_min, comm_max, &
+    comm_rank, comm_backend_name
   use m_errors, only: log_open, log_close, log_line
   use m_deck, only: deck_read, deck_prepare_output
   use m_hdf5_io, only: h5_init, h5_finalize
@@ -111,8 +112,8 @@ contains
         s%lay%nlast, 'cells'
       call log_line(line)
     end if
-    write(line, '(a,i0,a,i0,a,i0)') 'ranks: ', comm_size(), '; blocks per rank: min ', &
-      comm_min(nb), ', max ', comm_max(nb)
+    write(line, '(a,i0,a,i0,a,i0)') 'ranks: ', comm_size(), ' (' // comm_backend_name // &
+      ' build); blocks per rank: min ', comm_min(nb), ', max ', comm_max(nb)
     call log_line(line)
     write(line, '(a,a,a,a,a,i0,a,f5.3)') 'numerics: scheme ', trim(s%cfg%scheme), ', flux ', &
       trim(s%cfg%flux), ', rk_order ', s%cfg%rk_order, ', cfl ', s%cfg%cfl

@@ -1,40 +1,45 @@
 !> All inter-rank communication of SABRE (DESIGN section 3): start and stop, rank and size,
-!> min/max/sum reductions, broadcasts, barrier, abort, and the nonblocking point-to-point
-!> exchange of packed halo buffers. This is the MPI back end; nothing else in the code
-!> calls MPI. The module knows nothing of physics or of blocks.
+!> min/max/sum reductions, broadcasts, barrier, abort, and the exchange of packed halo
+!> buffers between partner ranks. This module is what the rest of the code uses; the
+!> transport is m_comm_backend, of which the Makefile compiles one: m_comm_mpi.f90 (MPI
+!> point-to-point and collectives, the default) or m_comm_caf.f90 (`make COMM=caf`:
+!> coarray puts, `sync images` and the collective subroutines of Fortran 2018). Both give
+!> bit-identical fields. Nothing here knows of physics or blocks; ranks count from 0 (an
+!> image is rank + 1).
 module m_comm
   use, intrinsic :: iso_c_binding, only: c_int
-  use mpi_f08
   use m_kinds, only: wp, i8
+  ! both back ends run on MPI (OpenCoarrays too): the node's ranks come from its split
+  use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, MPI_INFO_NULL, &
+    MPI_Comm_split_type, MPI_Comm_size, MPI_Comm_rank, MPI_Comm_free
+  use m_comm_backend, only: comm_backend_name, backend_init, backend_finalize, &
+    backend_barrier, backend_wtime, backend_world_handles, backend_min_real, &
+    backend_min_int, backend_max_real, backend_max_int, backend_sum_real, backend_sum_int8, &
+    backend_bcast_int, backend_bcast_real, backend_bcast_logical, backend_bcast_chars, &
+    backend_abort, comm_exchange_t, exchange_setup, exchange_start, exchange_wait
   implicit none
   private
   public :: comm_init, comm_finalize, comm_rank, comm_size, comm_is_root, comm_barrier
   public :: comm_min, comm_max, comm_sum, comm_sum_array, comm_any, comm_minloc_rank
   public :: comm_bcast, comm_abort, comm_exit, comm_wtime, comm_world_handles, comm_node_ranks
-  public :: comm_exchange_t, exchange_start, exchange_wait
+  public :: comm_backend_name
+  public :: comm_exchange_t, exchange_setup, exchange_start, exchange_wait
 
   integer :: my_rank = 0
   integer :: n_ranks = 1
 
-  !> A set of messages, one per partner rank, exchanged with nonblocking sends/receives.
-  type :: comm_exchange_t
-    integer :: n = 0
-    integer, allocatable :: partner(:)
-    type(MPI_Request), allocatable :: req(:)
-  end type comm_exchange_t
-
   interface comm_min
-    module procedure comm_min_real, comm_min_int
+    module procedure backend_min_real, backend_min_int
   end interface comm_min
   interface comm_max
-    module procedure comm_max_real, comm_max_int
+    module procedure backend_max_real, backend_max_int
   end interface comm_max
   interface comm_sum
-    module procedure comm_sum_real, comm_sum_int8
+    module procedure comm_sum_real, backend_sum_int8
   end interface comm_sum
   interface comm_bcast
-    module procedure comm_bcast_string, comm_bcast_int, comm_bcast_int_array, &
-      comm_bcast_real, comm_bcast_logical
+    module procedure comm_bcast_string, comm_bcast_int, backend_bcast_int, &
+      backend_bcast_real, backend_bcast_logical
   end interface comm_bcast
 
   interface
@@ -47,19 +52,11 @@ module m_comm
 contains
 
   subroutine comm_init()
-    integer :: ierr
-    logical :: started
-    call MPI_Initialized(started, ierr)
-    if (.not. started) call MPI_Init(ierr)
-    call MPI_Comm_rank(MPI_COMM_WORLD, my_rank, ierr)
-    call MPI_Comm_size(MPI_COMM_WORLD, n_ranks, ierr)
+    call backend_init(my_rank, n_ranks)
   end subroutine comm_init
 
   subroutine comm_finalize()
-    integer :: ierr
-    logical :: done
-    call MPI_Finalized(done, ierr)
-    if (.not. done) call MPI_Finalize(ierr)
+    call backend_finalize()
   end subroutine comm_finalize
 
   integer function comm_rank()
@@ -75,20 +72,20 @@ contains
   end function comm_is_root
 
   subroutine comm_barrier()
-    integer :: ierr
-    call MPI_Barrier(MPI_COMM_WORLD, ierr)
+    call backend_barrier()
   end subroutine comm_barrier
 
   !> The integer (pre-mpi_f08) handles of the world communicator and the null info object,
-  !> for libraries with an MPI interface of their own (parallel HDF5).
+  !> for libraries with an MPI interface of their own (parallel HDF5). The coarray build
+  !> runs on MPI too (OpenCoarrays), so both back ends have them.
   subroutine comm_world_handles(comm, info)
     integer, intent(out) :: comm, info
-    comm = MPI_COMM_WORLD%mpi_val
-    info = MPI_INFO_NULL%mpi_val
+    call backend_world_handles(comm, info)
   end subroutine comm_world_handles
 
   !> The ranks that share this rank's node (its shared-memory domain), and whether this
-  !> rank is the lowest of them: the one that speaks for the node's memory.
+  !> rank is the lowest of them: the one that speaks for the node's memory. MPI in both
+  !> builds (the coarray build runs on Open MPI).
   subroutine comm_node_ranks(n, leader)
     integer, intent(out) :: n
     logical, intent(out) :: leader
@@ -103,67 +100,36 @@ contains
   end subroutine comm_node_ranks
 
   real(wp) function comm_wtime()
-    comm_wtime = MPI_Wtime()
+    comm_wtime = backend_wtime()
   end function comm_wtime
 
-  real(wp) function comm_min_real(x) result(r)
-    real(wp), intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_COMM_WORLD, ierr)
-  end function comm_min_real
-
-  integer function comm_min_int(x) result(r)
-    integer, intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD, ierr)
-  end function comm_min_int
-
-  real(wp) function comm_max_real(x) result(r)
-    real(wp), intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD, ierr)
-  end function comm_max_real
-
-  integer function comm_max_int(x) result(r)
-    integer, intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD, ierr)
-  end function comm_max_int
-
-  !> Sums are for diagnostics only: their last bits depend on the number of ranks.
+  !> Sums are for diagnostics: their last bits depend on the number of ranks (a sum that
+  !> steers the solution adds one non-zero term per entry, which any order gives exactly).
   real(wp) function comm_sum_real(x) result(r)
     real(wp), intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_DOUBLE_PRECISION, MPI_SUM, MPI_COMM_WORLD, ierr)
+    real(wp) :: v(1)
+    v(1) = x
+    call backend_sum_real(v)
+    r = v(1)
   end function comm_sum_real
 
   subroutine comm_sum_array(x)
     real(wp), intent(inout) :: x(:)
-    real(wp) :: r(size(x))
-    integer :: ierr
-    call MPI_Allreduce(x, r, size(x), MPI_DOUBLE_PRECISION, MPI_SUM, MPI_COMM_WORLD, ierr)
-    x = r
+    call backend_sum_real(x)
   end subroutine comm_sum_array
-
-  integer(i8) function comm_sum_int8(x) result(r)
-    integer(i8), intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_INTEGER8, MPI_SUM, MPI_COMM_WORLD, ierr)
-  end function comm_sum_int8
 
   logical function comm_any(x) result(r)
     logical, intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_LOGICAL, MPI_LOR, MPI_COMM_WORLD, ierr)
+    r = backend_max_int(merge(1, 0, x)) > 0
   end function comm_any
 
   !> The lowest rank for which flag is true, or -1 when no rank has it.
   integer function comm_minloc_rank(flag) result(r)
     logical, intent(in) :: flag
-    integer :: mine, ierr
+    integer :: mine
     mine = huge(1)
     if (flag) mine = my_rank
-    call MPI_Allreduce(mine, r, 1, MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD, ierr)
+    r = backend_min_int(mine)
     if (r == huge(1)) r = -1
   end function comm_minloc_rank
 
@@ -171,52 +137,32 @@ contains
   subroutine comm_bcast_string(text, root)
     character(len=:), allocatable, intent(inout) :: text
     integer, intent(in) :: root
-    integer :: n, ierr
+    integer :: n
     n = 0
     if (my_rank == root) n = len(text)
-    call MPI_Bcast(n, 1, MPI_INTEGER, root, MPI_COMM_WORLD, ierr)
+    call comm_bcast_int(n, root)
     if (my_rank /= root) then
       if (allocated(text)) deallocate(text)
       allocate(character(len=n) :: text)
     end if
-    if (n > 0) call MPI_Bcast(text, n, MPI_CHARACTER, root, MPI_COMM_WORLD, ierr)
+    if (n > 0) call backend_bcast_chars(text, root)
   end subroutine comm_bcast_string
 
   subroutine comm_bcast_int(x, root)
     integer, intent(inout) :: x
     integer, intent(in) :: root
-    integer :: ierr
-    call MPI_Bcast(x, 1, MPI_INTEGER, root, MPI_COMM_WORLD, ierr)
+    integer :: v(1)
+    v(1) = x
+    call backend_bcast_int(v, root)
+    x = v(1)
   end subroutine comm_bcast_int
-
-  subroutine comm_bcast_int_array(x, root)
-    integer, intent(inout) :: x(:)
-    integer, intent(in) :: root
-    integer :: ierr
-    call MPI_Bcast(x, size(x), MPI_INTEGER, root, MPI_COMM_WORLD, ierr)
-  end subroutine comm_bcast_int_array
-
-  subroutine comm_bcast_real(x, root)
-    real(wp), intent(inout) :: x
-    integer, intent(in) :: root
-    integer :: ierr
-    call MPI_Bcast(x, 1, MPI_DOUBLE_PRECISION, root, MPI_COMM_WORLD, ierr)
-  end subroutine comm_bcast_real
-
-  subroutine comm_bcast_logical(x, root)
-    logical, intent(inout) :: x
-    integer, intent(in) :: root
-    integer :: ierr
-    call MPI_Bcast(x, 1, MPI_LOGICAL, root, MPI_COMM_WORLD, ierr)
-  end subroutine comm_bcast_logical
 
   !> Stop every rank at once with a non-zero exit status (an error seen by one rank only).
   subroutine comm_abort(code)
     integer, intent(in) :: code
-    integer :: ierr
     flush(6)
     flush(0)
-    call MPI_Abort(MPI_COMM_WORLD, code, ierr)
+    call backend_abort(code)
     call c_exit(int(code, c_int))
   end subroutine comm_abort
 
@@ -228,36 +174,5 @@ contains
     call comm_finalize()
     call c_exit(int(code, c_int))
   end subroutine comm_exit
-
-  !> Start one exchange: post a receive and a send of one packed buffer per partner.
-  !> sendbuf(:, m) / recvbuf(:, m) hold the message for partner(m); counts give lengths.
-  subroutine exchange_start(ex, partner, sendbuf, scount, recvbuf, rcount)
-    type(comm_exchange_t), intent(inout) :: ex
-    integer, intent(in) :: partner(:), scount(:), rcount(:)
-    real(wp), intent(in), asynchronous :: sendbuf(:, :)
-    real(wp), intent(inout), asynchronous :: recvbuf(:, :)
-    integer :: m, ierr
-    integer, parameter :: tag = 4242
-    ex%n = size(partner)
-    if (allocated(ex%req)) then
-      if (size(ex%req) < 2 * ex%n) deallocate(ex%req)
-    end if
-    if (.not. allocated(ex%req)) allocate(ex%req(max(1, 2 * ex%n)))
-    do m = 1, ex%n
-      call MPI_Irecv(recvbuf(:, m), rcount(m), MPI_DOUBLE_PRECISION, partner(m), tag, &
-        MPI_COMM_WORLD, ex%req(m), ierr)
-    end do
-    do m = 1, ex%n
-      call MPI_Isend(sendbuf(:, m), scount(m), MPI_DOUBLE_PRECISION, partner(m), tag, &
-        MPI_COMM_WORLD, ex%req(ex%n + m), ierr)
-    end do
-  end subroutine exchange_start
-
-  subroutine exchange_wait(ex)
-    type(comm_exchange_t), intent(inout) :: ex
-    integer :: ierr
-    if (ex%n > 0) call MPI_Waitall(2 * ex%n, ex%req, MPI_STATUSES_IGNORE, ierr)
-    ex%n = 0
-  end subroutine exchange_wait
 
 end module m_comm

@@ -1,9 +1,10 @@
 !> Halo exchange between blocks (DESIGN section 3): every block's 4-deep halo over faces,
 !> edges and corners is filled from the neighbouring block, by a local copy when the neighbour
-!> is on this rank, otherwise through one packed message per partner rank sent and received
-!> with nonblocking point-to-point calls (m_comm). The plan is built once from the layout:
-!> both sides of a message list its pieces in the same order, by (receiving block id,
-!> direction), so no piece carries a header. Regions with no neighbour block (domain
+!> is on this rank, otherwise through one packed message per partner rank (m_comm: MPI
+!> nonblocking sends and receives, or coarray puts in the COMM=caf build). The plan is
+!> built once from the layout (collectively: it also sets up m_comm's exchange): both sides
+!> of a message list its pieces in the same order, by (receiving block id, direction), so
+!> no piece carries a header. Regions with no neighbour block (domain
 !> boundary, rigid obstacle) are left to m_boundary. Blocks may differ in extent (the last
 !> block along a direction, m_layout): a box takes the extent of the block it lies in, and
 !> across a face the two blocks agree in every other direction.
@@ -11,7 +12,7 @@ module m_halo
   use m_kinds, only: wp
   use m_layout, only: layout_t, block_neighbor, block_extent
   use m_blocks, only: block_t
-  use m_comm, only: comm_rank, comm_exchange_t, exchange_start, exchange_wait
+  use m_comm, only: comm_rank, comm_exchange_t, exchange_setup, exchange_start, exchange_wait
   implicit none
   private
   public :: halo_plan_t, halo_plan_build, halo_exchange, halo_refresh, halo_region
@@ -78,8 +79,8 @@ contains
     type(layout_t), intent(in) :: lay
     type(block_t), intent(in) :: blocks(:)
     type(halo_plan_t), intent(out) :: plan
-    integer :: me, b, nbr, dir(3), di, dj, dk, p, r, k, kdir, nb, maxs, maxr
-    integer, allocatable :: local_of(:), pindex(:)
+    integer :: me, b, nbr, dir(3), di, dj, dk, p, r, k, kdir, nb, maxs, maxr, nvq
+    integer, allocatable :: local_of(:), pindex(:), ranks(:), capacity(:)
     type(piece_t) :: pc
     me = comm_rank()
     nb = size(blocks)
@@ -159,6 +160,15 @@ contains
     end do
     ! buffers are sized per variable count at exchange time; remember cell counts here
     allocate(plan%sendbuf(maxs, max(plan%npartner, 1)), plan%recvbuf(maxr, max(plan%npartner, 1)))
+    ! every rank (collective): a message carries at most every variable of q
+    nvq = 0
+    if (nb > 0) nvq = size(blocks(1)%q, 4)
+    allocate(ranks(plan%npartner), capacity(plan%npartner))
+    do r = 1, plan%npartner
+      ranks(r) = plan%partner(r)%rank
+      capacity(r) = plan%partner(r)%ncells_recv * nvq
+    end do
+    call exchange_setup(plan%ex, ranks, capacity)
 
   contains
 
@@ -263,7 +273,7 @@ contains
       end if
       if (mc <= nvar) call copy_piece(plan, blocks, plan%copy(c), mc, nvar)
     end do
-    if (plan%npartner > 0) call exchange_wait(plan%ex)
+    if (plan%npartner > 0) call exchange_wait(plan%ex, plan%recvbuf)
     do r = 1, plan%npartner
       pos = 0
       do k = 1, size(plan%partner(r)%recv)
