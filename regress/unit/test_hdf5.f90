@@ -282,6 +282,10 @@ contains
       nodes = '1 17 25'
       origin = '0.0E+000 2.5E-001 -1.0E+000'
       spacing = '1.25E-001 7.8125E-002 1.25E-001'
+    case ('2d_uneven')
+      nodes = '1 19 31'
+      origin = '0.0E+000 2.5E-001 -1.0E+000'
+      spacing = '1.0E-001 6.944444444444445E-002 1.0E-001'
     case default
       nodes = '17 9 13'
       origin = '3.0E+000 2.5E-001 -1.0E+000'
