@@ -31,7 +31,7 @@ CHK_FLAGS := $(STD_FLAGS) -O1 -g -Wall -Wextra -Wimplicit-interface -Werror -fch
              -ffpe-trap=invalid,zero,overflow -fbacktrace -Wno-maybe-uninitialized
 
 # modules in dependency order (a module only uses those before it)
-MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_config core/m_state \
+MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_signals core/m_config core/m_state \
   strength/m_yield strength/m_plasticity \
   core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_halo \
   grid/m_boundary eos/m_eos numerics/m_reconstruct \
