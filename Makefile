@@ -2,6 +2,8 @@
 #   make            bin/sabre (optimised: -O3 -march=native)
 #   make deps       install the missing Debian packages (compilers, MPI, HDF5, METIS, Python)
 #   make check      check build (run-time checks, FPE traps) + unit tests + regression
+#   make check-batch  the Slurm job chain on a real Slurm the test starts and stops
+#                   (installs slurmctld, slurmd, slurm-client; needs root)
 #   make run        the default deck, then VTK files and a PNG of its history
 #   make verify     convergence studies against exact solutions (tables/plots for the manual),
 #                   gas dynamics and elastic-plastic solids
@@ -48,7 +50,7 @@ CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset test_gfm
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
-.PHONY: all deps check run verify bench clean unit accuracy accuracy-taylor stability
+.PHONY: all deps check check-batch run verify bench clean unit accuracy accuracy-taylor stability
 all: bin/sabre
 
 bin/sabre: $(REL_OBJ) build/rel/src/sabre.o | bin
@@ -87,6 +89,13 @@ unit: $(UNIT_BIN)
 check: deps
 	$(MAKE) bin/sabre-check unit bin/sabre
 	SABRE=bin/sabre-check $(PY) regress/run
+
+# tools/batch/test-slurm: a time-limited job and a signalled one, each requeued until done,
+# bit-identical to an uninterrupted run (the PBS chain is tested in make check)
+check-batch: deps
+	@tools/install-deps batch
+	$(MAKE) bin/sabre
+	tools/batch/test-slurm
 
 run: deps
 	$(MAKE) bin/sabre

@@ -10,7 +10,8 @@
 #      "stopped cleanly" line) is a clean stop with a checkpoint, and the chain goes on
 #      through the queue's own function (requeue, or a resubmission) unless SABRE_MAX_TRIES
 #      tries have run; anything else is a failure and ends the chain.
-# Every try appends one line to out_dir/batch.log; a complete run writes out_dir/batch.done.
+# Every try appends one line to out_dir/batch.log and keeps its run.log as run.tryN.log; a
+# complete run writes out_dir/batch.done. A first try that does not continue clears them.
 # The queue-specific parts are functions the job script defines before calling chain_run:
 #   queue_time_left   seconds the job has left (empty: unknown)
 #   queue_continue    put the next try in the queue (its argument: the next try number)
@@ -127,6 +128,10 @@ chain_run() {
   local out chk="" limit rc=0 started verdict
   local -a args=("$@") launch
   out=$(chain_out_dir "$deck" "$@")
+  if [ "$try" -eq 1 ] && [ "${SABRE_CONTINUE:-0}" != 1 ]; then
+    # a new chain: the records of an earlier one in this folder go
+    rm -f "$out/batch.log" "$out/batch.done" "$out"/run.try*.log
+  fi
   if [ "$try" -gt 1 ] || [ "${SABRE_CONTINUE:-0}" = 1 ]; then
     chk=$(chain_newest_checkpoint "$out")
     if [ -n "$chk" ]; then
