@@ -5,7 +5,8 @@
 #   2. the newest complete checkpoint in out_dir when the try continues a run;
 #   3. run.wall_limit from the time the queue has left for the job, less SABRE_MARGIN;
 #   4. SABRE under the launcher, in the background, so that the queue's warning signal
-#      (USR1, USR2) or time-limit signal (TERM) reaches the shell and is passed on to it;
+#      (USR1, USR2) or time-limit signal (TERM) reaches the shell and is passed on to it
+#      (a TERM as USR1);
 #   5. its verdict: exit 0 is a complete run; exit 75 (or a run.log that ends with SABRE's
 #      "stopped cleanly" line) is a clean stop with a checkpoint, and the chain goes on
 #      through the queue's own function (requeue, or a resubmission) unless SABRE_MAX_TRIES
@@ -110,11 +111,15 @@ chain_wall_limit() {
   echo "$limit"
 }
 
+# a signal to the batch shell goes on to the launcher as SIGUSR1 or SIGUSR2: mpirun and srun
+# pass those on to every rank, while both end the run at once on a SIGTERM (mpirun after
+# odls_base_sigkill_timeout, srun "forcing job termination"); SABRE treats all three alike
 chain_launcher_pid=""
 chain_forward() {
-  local sig=$1
-  chain_log "caught SIG$sig: passing it on to the solver"
-  [ -n "$chain_launcher_pid" ] && kill -s "$sig" "$chain_launcher_pid" 2>/dev/null
+  local sig=$1 pass=USR1
+  [ "$sig" = USR2 ] && pass=USR2
+  chain_log "caught SIG$sig: passing SIG$pass on to the solver"
+  [ -n "$chain_launcher_pid" ] && kill -s "$pass" "$chain_launcher_pid" 2>/dev/null
   return 0
 }
 
