@@ -157,28 +157,25 @@ chain_run() {
   trap 'chain_forward TERM' TERM
   "${launch[@]}" "$sabre" "$deck" "${args[@]}" &
   chain_launcher_pid=$!
-  # a trapped signal ends `wait` early: wait again until the solver has gone
+  # a trapped signal ends `wait` early: wait again until the solver has gone (an ended but
+  # unreaped launcher still answers kill -0, so the last wait has its own exit status)
   while :; do
     rc=0
     wait "$chain_launcher_pid" || rc=$?
     kill -0 "$chain_launcher_pid" 2>/dev/null || break
   done
-  if [ "$rc" -gt 128 ]; then
-    # a signal came as the solver ended: the shell still knows the solver's own status
-    rc=0
-    wait "$chain_launcher_pid" 2>/dev/null || rc=$?
-  fi
   trap - USR1 USR2 TERM
   if [ "$rc" -eq 0 ]; then
     verdict=complete
-  elif [ "$rc" -eq "$chain_exit_stopped" ] || chain_log_says_stopped "$out/run.log" \
-      "$started"; then
+  elif [ "$rc" -eq "$chain_exit_stopped" ] || { chain_fresh_log "$out/run.log" "$started" &&
+      grep -q 'stopped cleanly at step' "$out/run.log"; }; then
+    # (the run log decides for a launcher whose exit status hides SABRE's)
     verdict=stopped
   else
     verdict=failed
   fi
   mkdir -p "$out"
-  [ -f "$out/run.log" ] && cp "$out/run.log" "$out/run.try$try.log"
+  if chain_fresh_log "$out/run.log" "$started"; then cp "$out/run.log" "$out/run.try$try.log"; fi
   printf '%s try %d job %s start %s exit %d %s after %d s\n' "$(date -u +%FT%TZ)" "$try" \
     "$(queue_job_id)" "${chk:-fresh}" "$rc" "$verdict" $(( $(date +%s) - started )) \
     >> "$out/batch.log"
@@ -202,8 +199,8 @@ chain_run() {
   esac
 }
 
-# whether SABRE's run log has its clean-stop line (when the launcher's own exit status
-# hides the solver's, as mpirun's does after a SIGTERM); only a log written by this try
-chain_log_says_stopped() {
-  [ -f "$1" ] && [ "$(stat -c %Y "$1")" -ge "$2" ] && grep -q 'stopped cleanly at step' "$1"
+# whether run log $1 was written since time $2 (a solver that failed before opening it
+# leaves the last try's)
+chain_fresh_log() {
+  [ -f "$1" ] && [ "$(stat -c %Y "$1")" -ge "$2" ]
 }
