@@ -4,6 +4,8 @@
 #   make deps       install the missing Debian packages (compilers, MPI, HDF5, METIS, Python)
 #   make check      check build (run-time checks, FPE traps) + unit tests + regression,
 #                   then the coarray check build's pass, bit-identical to the MPI build
+#   make check-batch  the Slurm job chain on a real Slurm the test starts and stops
+#                   (installs slurmctld, slurmd, slurm-client; needs root)
 #   make run        the default deck, then VTK files and a PNG of its history
 #   make verify     convergence studies against exact solutions (tables/plots for the manual),
 #                   gas dynamics and elastic-plastic solids
@@ -33,7 +35,7 @@ CHK_FLAGS := $(STD_FLAGS) -O1 -g -Wall -Wextra -Wimplicit-interface -Werror -fch
              -ffpe-trap=invalid,zero,overflow -fbacktrace -Wno-maybe-uninitialized
 
 # modules in dependency order (a module only uses those before it)
-MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_config core/m_state \
+MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_signals core/m_config core/m_state \
   strength/m_yield strength/m_plasticity \
   core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_halo \
   grid/m_boundary eos/m_eos numerics/m_reconstruct \
@@ -61,7 +63,7 @@ CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset test_gfm
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
-.PHONY: all deps check check-caf run verify bench clean unit accuracy accuracy-taylor stability
+.PHONY: all deps check check-caf check-batch run verify bench clean unit accuracy accuracy-taylor stability
 all: $(if $(filter caf,$(COMM)),bin/sabre-caf,bin/sabre)
 
 bin/sabre: $(REL_OBJ) build/rel/src/sabre.o | bin
@@ -147,6 +149,13 @@ check: deps
 	$(MAKE) bin/sabre-check unit bin/sabre bin/sabre-caf-check
 	SABRE=bin/sabre-check $(PY) regress/run
 	$(MAKE) check-caf
+
+# tools/batch/test-slurm: a time-limited job and a signalled one, each requeued until done,
+# bit-identical to an uninterrupted run (the PBS chain is tested in make check)
+check-batch: deps
+	@tools/install-deps batch
+	$(MAKE) bin/sabre
+	tools/batch/test-slurm
 
 run: deps
 	$(MAKE) bin/sabre

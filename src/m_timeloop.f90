@@ -18,6 +18,7 @@ module m_timeloop
   use m_comm, only: comm_max, comm_any, comm_sum, comm_wtime, comm_bcast, comm_is_root, &
     comm_sum_array
   use m_errors, only: stop_collective, log_line
+  use m_signals, only: signal_caught, signal_name
   use m_timers, only: timer_start, timer_stop
   use m_gfm, only: gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: n_content, content_block, fix_block
@@ -38,15 +39,19 @@ module m_timeloop
 
 contains
 
-  subroutine run_time_loop(sim, deck_text)
+  !> stopped: the run stopped before its end (wall_limit or a caught signal) after writing a
+  !> checkpoint to continue from.
+  subroutine run_time_loop(sim, deck_text, stopped)
     type(sim_t), intent(inout) :: sim
     character(len=*), intent(in) :: deck_text
+    logical, intent(out) :: stopped
     type(history_t) :: hist
     type(progress_t) :: progress
     real(wp) :: rate, t_end, step_wall, t0, worst_step
     logical :: ok, stop_wall, stop_bad, changed
     character(len=line_len) :: msg
-    integer :: restart_step, b
+    integer :: restart_step, b, signum
+    stopped = .false.
     t_end = huge(1.0_wp)
     if (is_set(sim%cfg%t_end)) t_end = sim%cfg%t_end
     restart_step = -1
@@ -117,12 +122,22 @@ contains
       if (sim%cfg%wall_limit > 0.0_wp .and. comm_is_root()) stop_wall = &
         comm_wtime() - sim%wall_start + 3.0_wp * worst_step + 5.0_wp > sim%cfg%wall_limit
       call comm_bcast(stop_wall, 0)
-      if (stop_wall) then
+      ! a batch queue's warning or time-limit signal, on any rank (m_signals)
+      signum = comm_max(signal_caught())
+      ! a run at its end has nothing to continue: it ends as a complete run
+      if (sim%time >= t_end * (1.0_wp - 1.0e-12_wp) .or. sim%step >= sim%cfg%max_steps) &
+        cycle
+      if (stop_wall .or. signum > 0) then
         call output_checkpoint(sim, deck_text)
-        write(msg, '(a,i0,a)') 'wall_limit: stopped cleanly at step ', sim%step, &
+        write(msg, '(a,i0,a)') 'stopped cleanly at step ', sim%step, &
           '; continue with &run restart = ''' // &
           trim(step_file_name(sim, 'chk', sim%step, '.h5')) // ''''
-        call log_line(msg)
+        if (stop_wall) then
+          call log_line('wall_limit: ' // msg)
+        else
+          call log_line(trim(signal_name(signum)) // ' caught: ' // msg)
+        end if
+        stopped = .true.
         exit
       end if
     end do

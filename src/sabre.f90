@@ -20,6 +20,7 @@ program sabre
   use m_timers, only: memory_kb
   use m_run_report, only: run_facts_t, run_facts, run_json_write, thermal_reason, &
     interfaces_reason
+  use m_signals, only: signals_catch, exit_stopped
   implicit none
   type(config_t) :: cfg
   type(sim_t) :: sim
@@ -28,8 +29,10 @@ program sabre
   character(len=:), allocatable :: deck_text
   integer :: nargs, k
   real(wp) :: wall, base_kb, loop_wall
+  logical :: stopped
 
   call comm_init()
+  call signals_catch()
   wall = comm_wtime()
   nargs = command_argument_count()
   if (nargs < 1) then
@@ -62,11 +65,13 @@ program sabre
     call sim_paint_initial_state(sim)
   end if
   loop_wall = comm_wtime()
-  call run_time_loop(sim, deck_text)
+  call run_time_loop(sim, deck_text, stopped)
   loop_wall = comm_wtime() - loop_wall
   call write_run_footer(sim, comm_wtime() - wall, loop_wall, base_kb)
   call log_close()
   call h5_finalize()
+  ! a run stopped before its end says so to its job script (tools/batch)
+  if (stopped) call comm_exit(exit_stopped)
   call comm_exit(0)
 
 contains

@@ -1,0 +1,61 @@
+# shellcheck shell=bash
+# Pieces shared by tools/batch/test-slurm and tools/batch/test-pbs: the deck both run, the
+# uninterrupted reference run and the bit-for-bit comparison of final plot files.
+
+# a 2D implosion (many blocks, reflections everywhere) a few seconds long on 2 ranks
+test_deck=decks/implosion_2d.nml
+test_overrides=("run.t_end=0.2" "output.plot_dt=0" "output.checkpoint_every=0")
+
+test_fail() { echo "FAIL: $*" >&2; exit 1; }
+
+# test_reference DIR NP: the uninterrupted run, with t_end doubled until it takes at least
+# 10 s (SABRE keeps 5 s and three longest steps in hand before a wall_limit, and a try
+# spends a second starting: a shorter run is not cut in two reliably);
+# sets ref_wall (whole seconds, rounded) and test_overrides[0] (the t_end used)
+test_reference() {
+  local dir=$1 np=$2 t0 t1 t_end=${test_overrides[0]#run.t_end=} k
+  for k in 1 2 3 4 5; do
+    test_overrides[0]="run.t_end=$t_end"
+    t0=$(date +%s.%N)
+    mpirun --oversubscribe -np "$np" "$SABRE" "$test_deck" "${test_overrides[@]}" \
+      "run.out_dir='$dir'" run.overwrite=.true. > "$dir.log" 2>&1 \
+      || test_fail "the reference run failed: $dir.log"
+    t1=$(date +%s.%N)
+    ref_wall=$("$PYTHON" -c "import sys; print(round(float(sys.argv[2]) - float(sys.argv[1])))" \
+      "$t0" "$t1")
+    [ "$ref_wall" -lt 10 ] || return 0
+    t_end=$("$PYTHON" -c "import sys; print(2 * float(sys.argv[1]))" "$t_end")
+  done
+  test_fail "the reference run stays under 10 s up to t_end = $t_end"
+}
+
+# test_identical REF DIR: the final plot files hold bit-identical fields, time and step
+test_identical() {
+  "$PYTHON" - "$SABRE_ROOT/tools" "$1" "$2" <<'EOF' || test_fail "$2 is not bit-identical to $1"
+import sys
+sys.path.insert(0, sys.argv[1])
+from sabre_py.h5io import last_plot_file
+from sabre_py.regress import identical_fields
+a, b = last_plot_file(sys.argv[2]), last_plot_file(sys.argv[3])
+why = identical_fields(a, b)
+if why:
+    print("differs: " + why)
+    sys.exit(1)
+print("bit-identical: %s and %s" % (a, b))
+EOF
+}
+
+# test_tries DIR MIN: batch.log has at least MIN tries, all but the last stopped cleanly,
+# the last complete, and batch.done is there
+test_tries() {
+  local dir=$1 min=$2 n
+  [ -f "$dir/batch.log" ] || test_fail "no $dir/batch.log"
+  n=$(wc -l < "$dir/batch.log")
+  [ "$n" -ge "$min" ] || test_fail "$n tries in $dir/batch.log, expected at least $min"
+  [ "$(head -n $((n - 1)) "$dir/batch.log" | grep -vc ' stopped after ')" -eq 0 ] \
+    || test_fail "a try before the last did not stop cleanly: $dir/batch.log"
+  tail -n 1 "$dir/batch.log" | grep -q ' exit 0 complete ' \
+    || test_fail "the last try did not complete: $dir/batch.log"
+  [ -f "$dir/batch.done" ] || test_fail "no $dir/batch.done"
+  sed 's/^/  /' "$dir/batch.log"
+}
