@@ -9,11 +9,12 @@
 module m_comm
   use, intrinsic :: iso_c_binding, only: c_int
   use m_kinds, only: wp, i8
-  ! both back ends run on MPI (OpenCoarrays too): the node's ranks come from its split
+  ! both back ends run on MPI (OpenCoarrays too): the world handles for parallel HDF5, the
+  ! wall clock and the node's ranks come from it whichever back end moves the halos
   use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, MPI_INFO_NULL, &
-    MPI_Comm_split_type, MPI_Comm_size, MPI_Comm_rank, MPI_Comm_free
+    MPI_Comm_split_type, MPI_Comm_size, MPI_Comm_rank, MPI_Comm_free, MPI_Wtime
   use m_comm_backend, only: comm_backend_name, backend_init, backend_finalize, &
-    backend_barrier, backend_wtime, backend_world_handles, backend_min_real, &
+    backend_barrier, backend_min_real, &
     backend_min_int, backend_max_real, backend_max_int, backend_sum_real, backend_sum_int8, &
     backend_bcast_int, backend_bcast_real, backend_bcast_logical, backend_bcast_chars, &
     backend_abort, comm_exchange_t, exchange_setup, exchange_start, exchange_wait
@@ -80,7 +81,8 @@ contains
   !> runs on MPI too (OpenCoarrays), so both back ends have them.
   subroutine comm_world_handles(comm, info)
     integer, intent(out) :: comm, info
-    call backend_world_handles(comm, info)
+    comm = MPI_COMM_WORLD%mpi_val
+    info = MPI_INFO_NULL%mpi_val
   end subroutine comm_world_handles
 
   !> The ranks that share this rank's node (its shared-memory domain), and whether this
@@ -100,7 +102,7 @@ contains
   end subroutine comm_node_ranks
 
   real(wp) function comm_wtime()
-    comm_wtime = backend_wtime()
+    comm_wtime = MPI_Wtime()
   end function comm_wtime
 
   !> Sums are for diagnostics: their last bits depend on the number of ranks (a sum that

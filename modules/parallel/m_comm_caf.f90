@@ -14,16 +14,16 @@
 !>    co_broadcast. Broadcasts by co_broadcast, barrier by `sync all`, abort by
 !>    `error stop`.
 !> The program stays an MPI program underneath (OpenCoarrays runs on Open MPI): parallel
-!> HDF5 takes MPI_COMM_WORLD from backend_world_handles, and the wall clock is MPI_Wtime.
+!> HDF5's communicator, the wall clock and the node's ranks come from MPI in m_comm.
 !> Only the latest exchange set-up owns the inbox (SABRE builds one halo plan per run);
 !> an exchange started on an older set-up stops the run with an internal error.
 module m_comm_backend
-  use mpi_f08, only: MPI_COMM_WORLD, MPI_INFO_NULL, MPI_Wtime, MPI_Finalize, MPI_Finalized
+  use mpi_f08, only: MPI_Finalize, MPI_Finalized
   use m_kinds, only: wp, i8
   implicit none
   private
   public :: comm_backend_name, backend_init, backend_finalize, backend_barrier
-  public :: backend_wtime, backend_world_handles, backend_abort
+  public :: backend_abort
   public :: backend_min_real, backend_min_int, backend_max_real, backend_max_int
   public :: backend_sum_real, backend_sum_int8
   public :: backend_bcast_int, backend_bcast_real, backend_bcast_logical, backend_bcast_chars
@@ -85,16 +85,6 @@ contains
   subroutine backend_barrier()
     sync all
   end subroutine backend_barrier
-
-  subroutine backend_world_handles(comm, info)
-    integer, intent(out) :: comm, info
-    comm = MPI_COMM_WORLD%mpi_val
-    info = MPI_INFO_NULL%mpi_val
-  end subroutine backend_world_handles
-
-  real(wp) function backend_wtime()
-    backend_wtime = MPI_Wtime()
-  end function backend_wtime
 
   subroutine backend_abort(code)
     integer, intent(in) :: code

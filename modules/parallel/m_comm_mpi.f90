@@ -8,7 +8,7 @@ module m_comm_backend
   implicit none
   private
   public :: comm_backend_name, backend_init, backend_finalize, backend_barrier
-  public :: backend_wtime, backend_world_handles, backend_abort
+  public :: backend_abort
   public :: backend_min_real, backend_min_int, backend_max_real, backend_max_int
   public :: backend_sum_real, backend_sum_int8
   public :: backend_bcast_int, backend_bcast_real, backend_bcast_logical, backend_bcast_chars
@@ -45,16 +45,6 @@ contains
     integer :: ierr
     call MPI_Barrier(MPI_COMM_WORLD, ierr)
   end subroutine backend_barrier
-
-  subroutine backend_world_handles(comm, info)
-    integer, intent(out) :: comm, info
-    comm = MPI_COMM_WORLD%mpi_val
-    info = MPI_INFO_NULL%mpi_val
-  end subroutine backend_world_handles
-
-  real(wp) function backend_wtime()
-    backend_wtime = MPI_Wtime()
-  end function backend_wtime
 
   subroutine backend_abort(code)
     integer, intent(in) :: code
