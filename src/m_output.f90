@@ -6,7 +6,7 @@ module m_output
   use m_simulation, only: sim_t
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, i_sxx, i_syy, i_szz, i_sxy, i_syz, &
     i_sxz, i_epsp
-  use m_euler, only: primitive_row, solid_temperature
+  use m_elastoplastic, only: primitive_row, solid_temperature
   use m_eos, only: eos_temperature, eos_sound_speed2
   use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
     h5_read_attr, h5_write_field, h5_read_field, h5_write_text, h5_has_attr, h5_is_hdf5, &
@@ -55,8 +55,8 @@ contains
     real(wp), allocatable :: data(:, :, :, :)
     integer, allocatable :: ids(:)
     integer :: m, k, l
-    if (sim%last_plot_step == sim%step) return
-    path = step_file_name(sim, 'plot', sim%step, '.h5')
+    if (sim%clk%last_plot_step == sim%clk%step) return
+    path = step_file_name(sim, 'plot', sim%clk%step, '.h5')
     ! every block at the largest extent; h5_write_field writes each block's own part
     allocate(data(sim%lay%nmax(1), sim%lay%nmax(2), sim%lay%nmax(3), size(sim%blocks)))
     data = 0.0_wp
@@ -65,8 +65,8 @@ contains
     names = [sim%cfg%fields(1:sim%cfg%n_fields), &
       (name_of_ls(sim%ls%name(l)), l = 1, sim%ls%n)]
     call h5_create(f, path, sim%lay)
-    call h5_write_attr(f, 'time', sim%time)
-    call h5_write_attr(f, 'step', sim%step)
+    call h5_write_attr(f, 'time', sim%clk%time)
+    call h5_write_attr(f, 'step', sim%clk%step)
     call h5_write_attr(f, 'title', trim(sim%cfg%title))
     do m = 1, size(names)
       if (m <= sim%cfg%n_fields) then
@@ -75,7 +75,7 @@ contains
         do k = 1, size(sim%blocks)
           associate (n => sim%blocks(k)%n)
             data(1:n(1), 1:n(2), 1:n(3), k) = sim%blocks(k)%q(1:n(1), 1:n(2), 1:n(3), &
-              sim%ils + m - sim%cfg%n_fields)
+              sim%ph%ils + m - sim%cfg%n_fields)
           end associate
         end do
       end if
@@ -84,9 +84,9 @@ contains
     call h5_close(f)
     k = index(path, '/', back=.true.)
     xmf = path(1:len_trim(path) - 3) // '.xmf'
-    call xdmf_write(xmf, path(k + 1:), sim%lay, names, sim%time)
-    sim%plot_count = sim%plot_count + 1
-    sim%last_plot_step = sim%step
+    call xdmf_write(xmf, path(k + 1:), sim%lay, names, sim%clk%time)
+    sim%clk%plot_count = sim%clk%plot_count + 1
+    sim%clk%last_plot_step = sim%clk%step
   end subroutine output_plot
 
   pure function name_of_ls(body) result(name)
@@ -123,11 +123,11 @@ contains
       do k = 1, sim%blocks(b)%n(3)
         do j = 1, sim%blocks(b)%n(2)
           call phase_select(sim, q(1:n, j, k, :), sel, isreal)
-          do p = 1, sim%nphase
+          do p = 1, sim%ph%nphase
             if (.not. any(sel == p)) cycle
-            off = (p - 1) * sim%nflow
-            associate (qp => q(1:n, j, k, off + 1:off + sim%nflow))
-              call primitive_row(sim%eos(p), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
+            off = (p - 1) * sim%ph%nflow
+            associate (qp => q(1:n, j, k, off + 1:off + sim%ph%nflow))
+              call primitive_row(sim%ph%eos(p), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
                 qp(:, i_mz), qp(:, i_en), rho, u, v, w, pr, e)
               select case (trim(name))
               case ('rho')
@@ -143,16 +143,16 @@ contains
               case ('e')
                 aux = e
               case ('T')
-                if (sim%strong(p)) then
-                  call solid_temperature(sim%eos(p), sim%st(p), n, rho, e, qp, aux)
+                if (sim%ph%strong(p)) then
+                  call solid_temperature(sim%ph%eos(p), sim%ph%st(p), n, rho, e, qp, aux)
                 else
-                  call eos_temperature(sim%eos(p), n, rho, e, aux)
+                  call eos_temperature(sim%ph%eos(p), n, rho, e, aux)
                 end if
               case ('c')
-                call eos_sound_speed2(sim%eos(p), n, rho, pr, aux)
+                call eos_sound_speed2(sim%ph%eos(p), n, rho, pr, aux)
                 aux = sqrt(max(aux, 0.0_wp))
               case ('mach')
-                call eos_sound_speed2(sim%eos(p), n, rho, pr, aux)
+                call eos_sound_speed2(sim%ph%eos(p), n, rho, pr, aux)
                 aux = sqrt(u**2 + v**2 + w**2) / sqrt(max(aux, tiny(1.0_wp)))
               case ('sxx', 'syy', 'szz', 'sxy', 'syz', 'sxz', 'eps_p', 'seq')
                 aux = solid_field(name, qp, rho)
@@ -210,25 +210,25 @@ contains
     allocate(data(n(1), n(2), n(3), size(sim%blocks)))
     data = 0.0_wp
     ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
-    call h5_create(f, step_file_name(sim, 'chk', sim%step, '.h5'), sim%lay)
-    call h5_write_attr(f, 'time', sim%time)
-    call h5_write_attr(f, 'step', sim%step)
-    call h5_write_attr(f, 'plot_count', sim%plot_count)
-    call h5_write_attr(f, 'last_plot_step', sim%last_plot_step)
-    call h5_write_attr(f, 'next_plot_time', sim%next_plot_time)
-    call h5_write_attr(f, 'dt_first', sim%dt_first)
-    call h5_write_attr(f, 'nvar', sim%nvar)
+    call h5_create(f, step_file_name(sim, 'chk', sim%clk%step, '.h5'), sim%lay)
+    call h5_write_attr(f, 'time', sim%clk%time)
+    call h5_write_attr(f, 'step', sim%clk%step)
+    call h5_write_attr(f, 'plot_count', sim%clk%plot_count)
+    call h5_write_attr(f, 'last_plot_step', sim%clk%last_plot_step)
+    call h5_write_attr(f, 'next_plot_time', sim%clk%next_plot_time)
+    call h5_write_attr(f, 'dt_first', sim%clk%dt_first)
+    call h5_write_attr(f, 'nvar', sim%ph%nvar)
     call h5_write_attr(f, 'checkpoint_version', checkpoint_version)
-    if (sim%fix_mass) then
+    if (sim%fix%on) then
       ! the conservation fix's state (m_timeloop::conserve_step)
-      call h5_write_attr(f, 'fix_content', reshape(sim%content, [size(sim%content)]))
-      call h5_write_attr(f, 'fix_taken', reshape(sim%fixed, [size(sim%fixed)]))
-      call h5_write_attr(f, 'fix_content0', sim%content0)
-      call h5_write_attr(f, 'fix_clamped', sim%fix_clamped)
-      call h5_write_attr(f, 'fix_open_cells', sim%open_cells)
-      call h5_write_attr(f, 'fix_crossing', sim%crossing)
+      call h5_write_attr(f, 'fix_content', reshape(sim%fix%content, [size(sim%fix%content)]))
+      call h5_write_attr(f, 'fix_taken', reshape(sim%fix%taken, [size(sim%fix%taken)]))
+      call h5_write_attr(f, 'fix_content0', sim%fix%content0)
+      call h5_write_attr(f, 'fix_clamped', sim%fix%clamped)
+      call h5_write_attr(f, 'fix_open_cells', sim%fix%open_cells)
+      call h5_write_attr(f, 'fix_crossing', sim%fix%crossing)
     end if
-    do m = 1, sim%nvar
+    do m = 1, sim%ph%nvar
       do b = 1, size(sim%blocks)
         n = sim%blocks(b)%n
         data(1:n(1), 1:n(2), 1:n(3), b) = sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m)
@@ -237,7 +237,7 @@ contains
     end do
     call h5_write_text(f, '/deck', deck_text)
     call h5_close(f)
-    call log_line('checkpoint ' // trim(step_file_name(sim, 'chk', sim%step, '.h5')))
+    call log_line('checkpoint ' // trim(step_file_name(sim, 'chk', sim%clk%step, '.h5')))
   end subroutine output_checkpoint
 
   !> Refuse, on every rank and before anything is written, a restart file that is missing,
@@ -289,9 +289,9 @@ contains
         else if (any(abs(lo - sim%lay%lo) > 1.0e-12_wp * max(abs(lo), abs(hi - lo))) .or. &
           any(abs(hi - sim%lay%hi) > 1.0e-12_wp * max(abs(hi), abs(hi - lo)))) then
           why = name // ' is for another domain (lo, hi differ from the deck''s)'
-        else if (nvar /= sim%nvar) then
+        else if (nvar /= sim%ph%nvar) then
           why = name // ' is for another state: ' // int_text(nvar) // ' variables per ' // &
-            'cell, the deck has ' // int_text(sim%nvar) // ' (other materials, bodies or ' // &
+            'cell, the deck has ' // int_text(sim%ph%nvar) // ' (other materials, bodies or ' // &
             'effects)'
         end if
       end if
@@ -324,31 +324,31 @@ contains
     allocate(data(n(1), n(2), n(3), size(sim%blocks)))
     ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
     call h5_open_read(f, path)
-    call h5_read_attr(f, 'time', sim%time)
-    call h5_read_attr(f, 'step', sim%step)
-    call h5_read_attr(f, 'plot_count', sim%plot_count)
-    call h5_read_attr(f, 'last_plot_step', sim%last_plot_step)
-    call h5_read_attr(f, 'next_plot_time', sim%next_plot_time)
-    call h5_read_attr(f, 'dt_first', sim%dt_first)
-    if (sim%fix_mass) then
-      allocate(fix(size(sim%content)))
+    call h5_read_attr(f, 'time', sim%clk%time)
+    call h5_read_attr(f, 'step', sim%clk%step)
+    call h5_read_attr(f, 'plot_count', sim%clk%plot_count)
+    call h5_read_attr(f, 'last_plot_step', sim%clk%last_plot_step)
+    call h5_read_attr(f, 'next_plot_time', sim%clk%next_plot_time)
+    call h5_read_attr(f, 'dt_first', sim%clk%dt_first)
+    if (sim%fix%on) then
+      allocate(fix(size(sim%fix%content)))
       call h5_read_attr(f, 'fix_content', fix)
-      sim%content = reshape(fix, shape(sim%content))
+      sim%fix%content = reshape(fix, shape(sim%fix%content))
       call h5_read_attr(f, 'fix_taken', fix)
-      sim%fixed = reshape(fix, shape(sim%fixed))
-      call h5_read_attr(f, 'fix_content0', sim%content0)
-      call h5_read_attr(f, 'fix_clamped', sim%fix_clamped)
-      call h5_read_attr(f, 'fix_open_cells', sim%open_cells)
+      sim%fix%taken = reshape(fix, shape(sim%fix%taken))
+      call h5_read_attr(f, 'fix_content0', sim%fix%content0)
+      call h5_read_attr(f, 'fix_clamped', sim%fix%clamped)
+      call h5_read_attr(f, 'fix_open_cells', sim%fix%open_cells)
       ! Checkpoints from before the open-side rule lack it: no phase was crossing then.
-      sim%crossing = 0.0_wp
+      sim%fix%crossing = 0.0_wp
       if (h5_has_attr(f, 'fix_crossing')) then
-        call h5_read_attr(f, 'fix_crossing', sim%crossing)
+        call h5_read_attr(f, 'fix_crossing', sim%fix%crossing)
       else
         call log_line('restart: ' // trim(path) // ' has no fix_crossing (written before ' // &
           'the open-side rule of the conservation fix): no phase taken as crossing')
       end if
     end if
-    do m = 1, sim%nvar
+    do m = 1, sim%ph%nvar
       call h5_read_field(f, trim(state_names(m)), sim%lay, ids, data)
       do b = 1, size(sim%blocks)
         n = sim%blocks(b)%n
@@ -356,7 +356,7 @@ contains
       end do
     end do
     call h5_close(f)
-    sim%restart_step = sim%step
+    sim%clk%restart_step = sim%clk%step
   end subroutine output_restart
 
   !> Columns of history.csv: totals over the real cells, maxima, fallback counters, and for
@@ -370,7 +370,7 @@ contains
     cols = [character(len=name_len) :: 'step', 'time', 'dt', 'mass', 'mom_x', 'mom_y', &
       'mom_z', 'kinetic', 'internal', 'total_energy', 'max_p', 'max_T', 'max_eps_p', &
       'fallback_faces', 'first_order_steps', 'first_order_cells']
-    if (sim%fix_mass) cols = [character(len=name_len) :: cols, 'solid_mass', 'solid_energy', &
+    if (sim%fix%on) cols = [character(len=name_len) :: cols, 'solid_mass', 'solid_energy', &
       'fixed_mass', 'fixed_energy', 'target_mass', 'target_energy']
     do l = 1, sim%ls%n
       if (sim%ls%kind(l) /= ls_material) cycle
@@ -388,9 +388,9 @@ contains
     real(wp) :: tot(8), pmax, tmax, epmax
     integer :: b, l, nb, ph
     real(wp), allocatable :: body(:, :)
-    logical :: has_t(sim%nphase)
-    do ph = 1, sim%nphase
-      has_t(ph) = is_set(sim%cfg%materials(material_index(sim%cfg, sim%material(ph)))%cv)
+    logical :: has_t(sim%ph%nphase)
+    do ph = 1, sim%ph%nphase
+      has_t(ph) = is_set(sim%cfg%materials(material_index(sim%cfg, sim%ph%material(ph)))%cv)
     end do
     tot = 0.0_wp
     pmax = -huge(1.0_wp)
@@ -399,13 +399,13 @@ contains
     do b = 1, size(sim%blocks)
       call block_totals(sim, b, has_t, tot, pmax, tmax, epmax)
     end do
-    tot(8) = real(sim%fallback_step, wp)
+    tot(8) = real(sim%diag%fallback_step, wp)
     call comm_sum_array(tot(1:7))
     tmax = comm_max(tmax)
     if (.not. any(has_t)) tmax = 0.0_wp
-    v = [sim%time, sim%dt, tot(1:7), comm_max(pmax), tmax, comm_max(epmax), tot(8), &
-      real(sim%first_order_steps, wp), real(comm_sum(sim%cells_low), wp)]
-    if (sim%fix_mass) v = [v, sim%measure, sum(sim%fixed, dim=2), sum(sim%content, dim=2)]
+    v = [sim%clk%time, sim%clk%dt, tot(1:7), comm_max(pmax), tmax, comm_max(epmax), tot(8), &
+      real(sim%diag%first_order_steps, wp), real(comm_sum(sim%diag%cells_low), wp)]
+    if (sim%fix%on) v = [v, sim%fix%measure, sum(sim%fix%taken, dim=2), sum(sim%fix%content, dim=2)]
     nb = count(sim%ls%kind == ls_material)
     if (nb == 0) return
     allocate(body(8, nb))
@@ -434,17 +434,17 @@ contains
       do k = 1, sim%blocks(b)%n(3)
         do j = 1, sim%blocks(b)%n(2)
           call phase_select(sim, q(1:n, j, k, :), sel, isreal)
-          do ph = 1, sim%nphase
+          do ph = 1, sim%ph%nphase
             msk = merge(1.0_wp, 0.0_wp, isreal .and. sel == ph)
             if (.not. any(msk > 0.0_wp)) cycle
-            o = (ph - 1) * sim%nflow
-            associate (qp => q(1:n, j, k, o + 1:o + sim%nflow))
-              call primitive_row(sim%eos(ph), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
+            o = (ph - 1) * sim%ph%nflow
+            associate (qp => q(1:n, j, k, o + 1:o + sim%ph%nflow))
+              call primitive_row(sim%ph%eos(ph), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
                 qp(:, i_mz), qp(:, i_en), rho, u, vv, w, p, e)
-              if (sim%strong(ph)) then
-                call solid_temperature(sim%eos(ph), sim%st(ph), n, rho, e, qp, temp)
+              if (sim%ph%strong(ph)) then
+                call solid_temperature(sim%ph%eos(ph), sim%ph%st(ph), n, rho, e, qp, temp)
               else
-                call eos_temperature(sim%eos(ph), n, rho, e, temp)
+                call eos_temperature(sim%ph%eos(ph), n, rho, e, temp)
               end if
               tot(1) = tot(1) + sum(msk * dv * rho)
               tot(2) = tot(2) + sum(msk * dv * qp(:, i_mx))
@@ -455,7 +455,7 @@ contains
               tot(7) = tot(7) + sum(msk * dv * qp(:, i_en))
               pmax = max(pmax, maxval(p, msk > 0.0_wp))
               if (has_t(ph)) tmax = max(tmax, maxval(temp, msk > 0.0_wp))
-              if (sim%strong(ph)) epmax = max(epmax, &
+              if (sim%ph%strong(ph)) epmax = max(epmax, &
                 maxval(qp(:, i_epsp) / rho, msk > 0.0_wp))
             end associate
           end do
@@ -480,9 +480,9 @@ contains
     if (sim%ls%n == 0) return
     nr = size(qrow, 1)
     best = huge(1.0_wp)
-    do p = 1, sim%nphase
+    do p = 1, sim%ph%nphase
       call ls_region(sim%ls, p, [1, 1, 1], [nr, 1, 1], &
-        reshape(qrow(:, sim%ils + 1:sim%nvar), [nr, 1, 1, sim%ls%n]), bigphi, owner)
+        reshape(qrow(:, sim%ph%ils + 1:sim%ph%nvar), [nr, 1, 1, sim%ls%n]), bigphi, owner)
       where (bigphi(:, 1, 1) < best)
         sel = p
         best = bigphi(:, 1, 1)
@@ -509,8 +509,8 @@ contains
     real(wp), allocatable :: least(:)
     real(wp) :: h, f
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
-    iv = sim%ils + l
-    o = (sim%ls%phase(l) - 1) * sim%nflow
+    iv = sim%ph%ils + l
+    o = (sim%ls%phase(l) - 1) * sim%ph%nflow
     m(1:2) = 0.0_wp
     lo = huge(1.0_wp)
     hi = -huge(1.0_wp)

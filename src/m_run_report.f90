@@ -56,8 +56,8 @@ contains
     type(progress_t), intent(out) :: pg
     pg%wall0 = comm_wtime()
     pg%last = pg%wall0
-    pg%time0 = sim%time
-    pg%step0 = sim%step
+    pg%time0 = sim%clk%time
+    pg%step0 = sim%clk%step
   end subroutine progress_start
 
   !> Rank 0 prints, to stdout and run.log, at most every progress_every seconds and when
@@ -81,25 +81,25 @@ contains
     pg%last = now
     done = 0.0_wp
     if (t_end < huge(1.0_wp) .and. t_end > pg%time0) &
-      done = (sim%time - pg%time0) / (t_end - pg%time0)
+      done = (sim%clk%time - pg%time0) / (t_end - pg%time0)
     if (sim%cfg%max_steps > pg%step0 .and. sim%cfg%max_steps < huge(1)) &
-      done = max(done, real(sim%step - pg%step0, wp) / (sim%cfg%max_steps - pg%step0))
+      done = max(done, real(sim%clk%step - pg%step0, wp) / (sim%cfg%max_steps - pg%step0))
     done = min(max(done, 0.0_wp), 1.0_wp)
     left = 0.0_wp
     if (done > 0.0_wp) left = (now - pg%wall0) * (1.0_wp - done) / done
     cells = active_cells(sim%lay)
-    rate = cells * (sim%step - pg%step0) / max(now - pg%wall0, 1.0e-9_wp)
+    rate = cells * (sim%clk%step - pg%step0) / max(now - pg%wall0, 1.0e-9_wp)
     share = 0.0_wp
-    if (t_end < huge(1.0_wp)) share = sim%time / t_end
+    if (t_end < huge(1.0_wp)) share = sim%clk%time / t_end
     by_steps = .false.
     if (sim%cfg%max_steps < huge(1)) then
-      by_steps = real(sim%step, wp) / max(sim%cfg%max_steps, 1) > share
-      if (by_steps) share = real(sim%step, wp) / max(sim%cfg%max_steps, 1)
+      by_steps = real(sim%clk%step, wp) / max(sim%cfg%max_steps, 1) > share
+      if (by_steps) share = real(sim%clk%step, wp) / max(sim%cfg%max_steps, 1)
     end if
-    write(line, '(a,i0,14a)') 'progress: step ', sim%step, &
-      ', t ', sci(sim%time, 4), ', dt ', sci(sim%dt, 4), ', ', seconds(100.0_wp * share), &
+    write(line, '(a,i0,14a)') 'progress: step ', sim%clk%step, &
+      ', t ', sci(sim%clk%time, 4), ', dt ', sci(sim%clk%dt, 4), ', ', seconds(100.0_wp * share), &
       ' % of ' // trim(merge('max_steps', 't_end    ', by_steps)), ', wall ', &
-      seconds(now - sim%wall_start), ' s, left ', seconds(left), ' s, ', sci(rate, 3), &
+      seconds(now - sim%clk%wall_start), ' s, left ', seconds(left), ' s, ', sci(rate, 3), &
       ' cell-steps/s'
     call log_line(line)
     call log_flush()
@@ -129,10 +129,10 @@ contains
   function thermal_reason(s) result(text)
     type(sim_t), intent(in) :: s
     character(len=:), allocatable :: text
-    if (s%has_strength .and. s%cfg%thermal) then
+    if (s%ph%has_strength .and. s%cfg%thermal) then
       text = 'on: temperature from the EOS less elastic and stored work; Taylor-Quinney ' // &
         'heating; Johnson-Cook softening where the model has it'
-    else if (s%has_strength) then
+    else if (s%ph%has_strength) then
       text = 'off: &physics thermal = .false. or no material needs it; the yield stress ' // &
         'sees the reference temperature'
     else
@@ -167,35 +167,35 @@ contains
     real(wp), intent(in) :: elapsed, loop, base
     type(run_facts_t) :: f
     real(wp) :: work, cells
-    f%step = s%step
-    f%time = s%time
-    f%first_order_steps = s%first_order_steps
+    f%step = s%clk%step
+    f%time = s%clk%time
+    f%first_order_steps = s%diag%first_order_steps
     f%blocks_min = comm_min(size(s%blocks))
     f%blocks_max = comm_max(size(s%blocks))
-    f%cell_steps = comm_sum(s%cell_steps)
-    f%fallback_faces = comm_sum(s%fallback_faces)
-    f%cells_low = comm_sum(s%cells_low)
-    f%gfm%ghosts = comm_sum(s%gcount%ghosts)
-    f%gfm%trilinear = comm_sum(s%gcount%trilinear)
-    f%gfm%incomplete = comm_sum(s%gcount%incomplete)
-    f%gfm%least_squares = comm_sum(s%gcount%least_squares)
-    f%gfm%mean = comm_sum(s%gcount%mean)
-    f%gfm%unfilled = comm_sum(s%gcount%unfilled)
-    f%gfm%limited = comm_sum(s%gcount%limited)
-    f%gfm%mmi = comm_sum(s%gcount%mmi)
-    f%gfm%separated = comm_sum(s%gcount%separated)
-    f%gfm%debris = comm_sum(s%gcount%debris)
+    f%cell_steps = comm_sum(s%diag%cell_steps)
+    f%fallback_faces = comm_sum(s%diag%fallback_faces)
+    f%cells_low = comm_sum(s%diag%cells_low)
+    f%gfm%ghosts = comm_sum(s%gf%counts%ghosts)
+    f%gfm%trilinear = comm_sum(s%gf%counts%trilinear)
+    f%gfm%incomplete = comm_sum(s%gf%counts%incomplete)
+    f%gfm%least_squares = comm_sum(s%gf%counts%least_squares)
+    f%gfm%mean = comm_sum(s%gf%counts%mean)
+    f%gfm%unfilled = comm_sum(s%gf%counts%unfilled)
+    f%gfm%limited = comm_sum(s%gf%counts%limited)
+    f%gfm%mmi = comm_sum(s%gf%counts%mmi)
+    f%gfm%separated = comm_sum(s%gf%counts%separated)
+    f%gfm%debris = comm_sum(s%gf%counts%debris)
     f%gfm_s = comm_max(timer_total(s%timers, 'gfm'))
     f%reinit_s = comm_max(timer_total(s%timers, 'reinit'))
-    if (s%fix_mass) then
-      f%fixed = [sum(s%fixed(1, :)), sum(s%fixed(2, :))]
-      f%fixed_percent(1) = 100.0_wp * f%fixed(1) / s%content0(1)
+    if (s%fix%on) then
+      f%fixed = [sum(s%fix%taken(1, :)), sum(s%fix%taken(2, :))]
+      f%fixed_percent(1) = 100.0_wp * f%fixed(1) / s%fix%content0(1)
       ! the energy part off: its content is not tracked, no per cent to give
       f%fixed_percent(2) = ieee_nan()
-      if (s%fix_energy) f%fixed_percent(2) = 100.0_wp * f%fixed(2) / s%content0(2)
+      if (s%fix%energy) f%fixed_percent(2) = 100.0_wp * f%fixed(2) / s%fix%content0(2)
     end if
-    f%fix_clamped = s%fix_clamped
-    f%fix_aside = s%fix_aside
+    f%fix_clamped = s%fix%clamped
+    f%fix_aside = s%fix%aside
     f%wall = elapsed
     f%loop = loop
     f%fluxes = comm_max(timer_total(s%timers, 'fluxes'))
@@ -212,7 +212,7 @@ contains
     f%peak_rank = 1024.0_wp * comm_max(memory_kb('VmHWM'))
     f%base = 1024.0_wp * comm_sum(base)
     f%per_cell = (f%peak - f%base) / cells
-    f%arrays_per_cell = 8.0_wp * s%nvar * (product(s%lay%bsize + 2 * s%lay%ng) &
+    f%arrays_per_cell = 8.0_wp * s%ph%nvar * (product(s%lay%bsize + 2 * s%lay%ng) &
       + 2 * product(s%lay%bsize)) / product(s%lay%bsize)
   end function run_facts
 
@@ -227,7 +227,7 @@ contains
     type(run_facts_t), intent(in) :: f
     character(len=*), intent(in) :: path
     type(json_t) :: js
-    character(len=64) :: names(s%nphase)
+    character(len=64) :: names(s%ph%nphase)
     integer :: k
     logical :: ok
     if (.not. comm_is_root()) return
@@ -263,23 +263,23 @@ contains
     call json_put(js, 'conserve', s%cfg%conserve)
     call json_put(js, 'chosen', s%cfg%numerics_note)
     call json_close(js)
-    do k = 1, s%nphase
-      names(k) = s%material(k)
+    do k = 1, s%ph%nphase
+      names(k) = s%ph%material(k)
     end do
     call json_put_array(js, 'phases', names)
     call json_object(js, 'effects')
-    call effect(js, 'strength', s%has_strength, s%strength_reason)
-    call effect(js, 'thermal', s%has_strength .and. s%cfg%thermal, thermal_reason(s))
+    call effect(js, 'strength', s%ph%has_strength, s%ph%strength_reason)
+    call effect(js, 'thermal', s%ph%has_strength .and. s%cfg%thermal, thermal_reason(s))
     call effect(js, 'interfaces', s%ls%n > 0, interfaces_reason(s))
     if (s%ls%n > 0) then
-      call effect(js, 'conservation_fix', s%fix_mass, s%fix_reason)
+      call effect(js, 'conservation_fix', s%fix%on, s%fix%reason)
     else
       call effect(js, 'conservation_fix', .false., 'off: no level sets')
     end if
     call json_close(js)
     call json_object(js, 'state')
-    call json_put(js, 'variables', s%nvar)
-    call json_put(js, 'variables_per_phase', s%nflow)
+    call json_put(js, 'variables', s%ph%nvar)
+    call json_put(js, 'variables_per_phase', s%ph%nflow)
     call json_put(js, 'level_sets', s%ls%n)
     call json_close(js)
     call json_object(js, 'end')
@@ -307,11 +307,11 @@ contains
       call json_put(js, 'reinit_seconds', f%reinit_s)
       call json_close(js)
     end if
-    if (s%fix_mass) then
+    if (s%fix%on) then
       call json_object(js, 'fix')
       call json_put(js, 'mass_kg', f%fixed(1))
       call json_put(js, 'mass_percent', f%fixed_percent(1))
-      call json_put(js, 'energy', trim(merge('on ', 'off', s%fix_energy)))
+      call json_put(js, 'energy', trim(merge('on ', 'off', s%fix%energy)))
       call json_put(js, 'energy_J', f%fixed(2))
       call json_put(js, 'energy_percent', f%fixed_percent(2))
       call json_put(js, 'clamped', f%fix_clamped)
@@ -336,15 +336,15 @@ contains
       real(f%cell_steps, wp) / max(f%loop, 1.0e-9_wp))
     call json_close(js)
     call json_object(js, 'memory')
-    call json_put(js, 'estimate_bytes_per_rank', sum(s%mem))
+    call json_put(js, 'estimate_bytes_per_rank', sum(s%mem%parts))
     call json_object(js, 'estimate_parts')
     do k = 1, size(mem_parts)
-      call json_put(js, trim(mem_parts(k)), s%mem(k))
+      call json_put(js, trim(mem_parts(k)), s%mem%parts(k))
     end do
     call json_close(js)
-    call json_put(js, 'baseline_bytes_rank0', s%mem_base)
-    call json_put(js, 'node_available_bytes', s%node_available)
-    call json_put(js, 'node_ranks', s%node_ranks)
+    call json_put(js, 'baseline_bytes_rank0', s%mem%base)
+    call json_put(js, 'node_available_bytes', s%mem%node_available)
+    call json_put(js, 'node_ranks', s%mem%node_ranks)
     call json_put(js, 'peak_resident_bytes', f%peak)
     call json_put(js, 'peak_resident_bytes_max_rank', f%peak_rank)
     call json_put(js, 'baseline_bytes', f%base)

@@ -1,6 +1,7 @@
-!> The simulation as one object: the resolved deck, the block layout, this rank's blocks,
-!> the halo plan, the equation of state, boundary conditions and scheme choices, and the
-!> clock (time, step, output schedule). sim_setup turns a deck into a ready-to-run
+!> The simulation in typed parts (sim_t): the resolved deck, the block layout, this rank's
+!> blocks, the halo plan and boundary conditions, the clock and output schedule, the phases,
+!> the scheme choices, the level-set bodies, the ghost-fluid and conservation-fix states,
+!> the step's counters, the work space and the memory estimate. sim_setup turns a deck into a ready-to-run
 !> simulation: layout, rigid-obstacle blocks, the memory estimate (a deck that does not fit
 !> the node is refused before anything is allocated), METIS partition, allocation and the
 !> initial state painted from the bodies (or read from a checkpoint by m_output).
@@ -14,12 +15,15 @@ module m_simulation
   use m_boundary, only: bc_kind_t, bc_from_name
   use m_eos, only: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial, &
     eos_energy, eos_prepare
-  use m_euler, only: euler_work_t, euler_work_init
+  use m_euler, only: euler_work_t, euler_work_init, numerics_t
+  use m_phases, only: phases_t
+  use m_fallback, only: counters_t
+  use m_gfm_conserve, only: fix_t, fix_setup
   use m_reconstruct, only: scheme_from_name
   use m_flux, only: flux_from_name, scalar_flux_from_name
   use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void, ls_rigid, ls_region
-  use m_gfm, only: gfm_work_t, gfm_work_init, gfm_counts_t, gfm_scene_t, probe_from_name
+  use m_gfm, only: gf_t, gf_fit, probe_from_name
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid
   use m_yield, only: strength_t, strength_from_material, strength_none
   use m_timers, only: timers_t, memory_kb, node_memory_kb
@@ -38,72 +42,50 @@ module m_simulation
   !> cell next to the surface, and a half cell for oblique surfaces.
   real(wp), parameter :: ghost_depth = 3.5_wp
 
-  type :: sim_t
-    type(config_t) :: cfg
-    type(layout_t) :: lay
-    type(block_t), allocatable :: blocks(:)
-    type(halo_plan_t) :: plan
-    type(euler_work_t) :: work
-    type(bc_kind_t) :: bc
-    integer :: nvar = n_euler          !< flow variables of every phase, then the level sets
-    integer :: nflow = n_euler         !< flow variables of a phase: n_euler, or n_solid
-    integer :: nphase = 1              !< phases (flow states): base material, material bodies
-    integer :: ils = n_euler           !< level set l is variable ils + l
-    ! per phase p: its material, equation of state, strength, shear modulus (0 without
-    ! strength) and rest state (density, pressure) of its non-computed cells
-    character(len=name_len), allocatable :: material(:)
-    type(eos_t), allocatable :: eos(:)
-    type(strength_t), allocatable :: st(:)
-    real(wp), allocatable :: shear(:)
-    logical, allocatable :: strong(:)
-    real(wp), allocatable :: rest(:, :)
-    type(ls_set_t) :: ls               !< level-set bodies (m_levelset_bodies)
-    type(gfm_scene_t) :: scn           !< what the ghost fill needs of the phases
-    type(gfm_work_t) :: gwork
-    type(gfm_counts_t) :: gcount
-    real(wp), allocatable :: vel(:, :, :, :)   !< level-set advection velocity (padded block)
-    real(wp), allocatable :: ls_rhs(:, :, :)
-    logical, allocatable :: dormant(:)         !< block entirely beyond the ghost band
-    ! the conservation fix of the ghost-fluid method (m_gfm_conserve; m_timeloop)
-    logical :: fix_mass = .false.      !< solid phases with level sets, conserve /= 'none'
-    logical :: fix_energy = .false.    !< energy too: no flowing base, no moving rigid body
-    character(len=256) :: fix_reason = ''
-    real(wp), allocatable :: bflux(:, :, :, :)  !< (2, phase, block, stage): domain-side rates
-    real(wp), allocatable :: content(:, :)      !< (2, phase): target mass and energy
-    real(wp) :: measure(2) = 0.0_wp    !< the solids' measured mass and energy after the fix
-    real(wp), allocatable :: lost(:, :)         !< (2, phase): debris dropped this step
-    real(wp), allocatable :: fixed(:, :)        !< (2, phase): content taken out so far
-    real(wp), allocatable :: open_cells(:)      !< (phase): its real cells on outflow sides
-    real(wp), allocatable :: crossing(:)        !< (phase): 1 while it crosses an open side
-    real(wp) :: content0(2) = 0.0_wp   !< the solids' mass and energy at the run's start
-    integer :: fix_clamped = 0         !< fixes held to a tenth of the surface content
-    integer :: fix_aside = 0           !< steps with a solid on an open side: no fix
-    logical :: has_strength = .false.  !< the state carries rho S and rho eps_p
-    character(len=256) :: strength_reason = ''
-    integer :: scheme = 3, flux = 1
-    integer :: scalar_flux = 1         !< solids: flux of rho eps_p, rho w_c (m_flux)
+  !> The clock and the output schedule.
+  type :: clock_t
     real(wp) :: time = 0.0_wp, dt = 0.0_wp, dt_first = 0.0_wp
     integer :: step = 0
+    integer :: restart_step = 0
     integer :: plot_count = 0          !< plot files written so far
     integer :: last_plot_step = -1
     real(wp) :: next_plot_time = 0.0_wp
-    integer(i8) :: cell_steps = 0      !< this rank's cells x steps, for the cost report
-    integer(i8) :: fallback_faces = 0  !< faces reconstructed at first order (this rank)
-    integer(i8) :: fallback_step = 0   !< the same, in the last step, summed over ranks
-    integer :: first_order_steps = 0   !< steps recomputed at first order (a-posteriori)
-    integer(i8) :: cells_low = 0       !< cells redone with first-order faces (this rank)
+    real(wp) :: wall_start = 0.0_wp    !< wall clock at the start of the run
+  end type clock_t
+
+  !> Work space of one block that the blocks share (shaped by sim_block_work).
+  type :: work_t
+    type(euler_work_t) :: euler
     real(wp), allocatable :: qsave(:, :, :, :)   !< a block's stage input (interior)
     logical, allocatable :: trouble(:, :, :)     !< its cells left inadmissible
-    logical :: step_failed = .false.   !< the last step met a state with no admissible cells
-    integer :: restart_step = 0
-    type(timers_t) :: timers
-    real(wp) :: wall_start = 0.0_wp
-    ! the memory estimate of one rank in bytes, part by part (mem_parts), made before the
-    ! grid is allocated; the resident memory then; what the node has, and its ranks
-    real(wp) :: mem(size(mem_parts)) = 0.0_wp
-    real(wp) :: mem_base = 0.0_wp
+  end type work_t
+
+  !> The memory estimate of one rank in bytes, part by part (mem_parts), made before the
+  !> grid is allocated; the resident memory then; what the node has, and its ranks.
+  type :: memory_t
+    real(wp) :: parts(size(mem_parts)) = 0.0_wp
+    real(wp) :: base = 0.0_wp
     real(wp) :: node_available = 0.0_wp
     integer :: node_ranks = 1
+  end type memory_t
+
+  !> The simulation in parts; each routine takes the parts it uses.
+  type :: sim_t
+    type(config_t) :: cfg              !< the resolved deck
+    type(layout_t) :: lay              !< the grid of blocks
+    type(block_t), allocatable :: blocks(:)   !< this rank's blocks
+    type(halo_plan_t) :: plan
+    type(bc_kind_t) :: bc
+    type(clock_t) :: clk
+    type(phases_t) :: ph               !< the phases and the state layout (m_phases)
+    type(numerics_t) :: num            !< scheme choices (m_euler)
+    type(ls_set_t) :: ls               !< level-set bodies (m_levelset_bodies)
+    type(gf_t) :: gf                   !< the ghost-fluid state (m_gfm)
+    type(fix_t) :: fix                 !< the conservation fix (m_gfm_conserve)
+    type(counters_t) :: diag           !< what the step had to do, and its cost (m_fallback)
+    type(work_t) :: wk
+    type(timers_t) :: timers
+    type(memory_t) :: mem
   end type sim_t
 
 contains
@@ -126,52 +108,54 @@ contains
     call layout_init(sim%lay, cfg%ndim, cfg%cells, cfg%block, cfg%lo, cfg%hi, periodic, &
       trim(cfg%geometry) == 'axisymmetric')
     call level_set_bodies(cfg, sim)
-    sim%nphase = sim%ls%nphase
-    allocate(sim%eos(sim%nphase), sim%st(sim%nphase), sim%shear(sim%nphase), &
-      sim%strong(sim%nphase), sim%rest(2, sim%nphase))
-    sim%strength_reason = ''
-    do p = 1, sim%nphase
-      mat = cfg%materials(material_index(cfg, sim%material(p)))
-      sim%st(p) = strength_from_material(mat)
-      sim%strong(p) = cfg%strength .and. sim%st(p)%model /= strength_none
-      sim%shear(p) = 0.0_wp
-      if (sim%strong(p)) sim%shear(p) = sim%st(p)%g
-      sim%eos(p) = eos_of(mat)
-      call eos_prepare(sim%eos(p))
-      sim%rest(:, p) = [mat%rho0, mat%p0]
-      if (any(sim%material(1:p-1) == sim%material(p))) cycle
-      if (len_trim(sim%strength_reason) > 0) &
-        sim%strength_reason = trim(sim%strength_reason) // '; '
-      sim%strength_reason = trim(sim%strength_reason) // ' ' // trim(strength_text(p))
+    sim%ph%nphase = sim%ls%nphase
+    allocate(sim%ph%eos(sim%ph%nphase), sim%ph%st(sim%ph%nphase), sim%ph%shear(sim%ph%nphase), &
+      sim%ph%strong(sim%ph%nphase), sim%ph%rest(2, sim%ph%nphase))
+    sim%ph%strength_reason = ''
+    do p = 1, sim%ph%nphase
+      mat = cfg%materials(material_index(cfg, sim%ph%material(p)))
+      sim%ph%st(p) = strength_from_material(mat)
+      sim%ph%strong(p) = cfg%strength .and. sim%ph%st(p)%model /= strength_none
+      sim%ph%shear(p) = 0.0_wp
+      if (sim%ph%strong(p)) sim%ph%shear(p) = sim%ph%st(p)%g
+      sim%ph%eos(p) = eos_of(mat)
+      call eos_prepare(sim%ph%eos(p))
+      sim%ph%rest(:, p) = [mat%rho0, mat%p0]
+      if (any(sim%ph%material(1:p-1) == sim%ph%material(p))) cycle
+      if (len_trim(sim%ph%strength_reason) > 0) &
+        sim%ph%strength_reason = trim(sim%ph%strength_reason) // '; '
+      sim%ph%strength_reason = trim(sim%ph%strength_reason) // ' ' // trim(strength_text(p))
     end do
-    sim%strength_reason = adjustl(sim%strength_reason)
-    sim%has_strength = any(sim%strong)
-    if (sim%has_strength) sim%nflow = n_solid
-    sim%ils = sim%nphase * sim%nflow
-    sim%nvar = sim%ils + sim%ls%n
+    sim%ph%strength_reason = adjustl(sim%ph%strength_reason)
+    sim%ph%has_strength = any(sim%ph%strong)
+    if (sim%ph%has_strength) sim%ph%nflow = n_solid
+    sim%ph%ils = sim%ph%nphase * sim%ph%nflow
+    sim%ph%nvar = sim%ph%ils + sim%ls%n
     call sim_memory_estimate(sim)
     call memory_check(sim)
     allocate(work(sim%lay%nblocks))
     work = [(product(block_extent(sim%lay, id)), id = 1, sim%lay%nblocks)]
     call partition_blocks(sim%lay, work)
-    call blocks_allocate(sim%lay, comm_rank(), sim%nvar, sim%blocks)
+    call blocks_allocate(sim%lay, comm_rank(), sim%ph%nvar, sim%blocks)
     call halo_plan_build(sim%lay, sim%blocks, sim%plan)
     call shape_work(sim, sim%lay)
+    ! every block is awake without level sets
+    allocate(sim%gf%dormant(size(sim%blocks)))
+    sim%gf%dormant = .false.
     if (sim%ls%n > 0) then
-      sim%scn%eos = sim%eos
-      sim%scn%shear = sim%shear
-      sim%scn%rest = sim%rest
-      sim%scn%nflow = sim%nflow
-      sim%scn%probe = probe_from_name(cfg%gfm_probe)
-      sim%scn%band = ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim))
-      sim%scn%contact = cfg%contact_kappa * maxval(sim%lay%dx(1:sim%lay%ndim))
-      allocate(sim%dormant(size(sim%blocks)))
-      sim%dormant = .false.
-      call fix_setup(sim)
+      sim%gf%scn%eos = sim%ph%eos
+      sim%gf%scn%shear = sim%ph%shear
+      sim%gf%scn%rest = sim%ph%rest
+      sim%gf%scn%nflow = sim%ph%nflow
+      sim%gf%scn%probe = probe_from_name(cfg%gfm_probe)
+      sim%gf%scn%band = ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim))
+      sim%gf%scn%contact = cfg%contact_kappa * maxval(sim%lay%dx(1:sim%lay%ndim))
+      call fix_setup(sim%fix, sim%ph, sim%ls, cfg%conserve, size(sim%blocks))
     end if
-    sim%scheme = scheme_from_name(cfg%scheme)
-    sim%flux = flux_from_name(cfg%flux)
-    sim%scalar_flux = scalar_flux_from_name(cfg%scalar_flux)
+    sim%num%scheme = scheme_from_name(cfg%scheme)
+    sim%num%flux = flux_from_name(cfg%flux)
+    sim%num%scalar_flux = scalar_flux_from_name(cfg%scalar_flux)
+    sim%num%surface_llf = cfg%surface_flux == 'llf'
 
   contains
 
@@ -179,9 +163,9 @@ contains
     function strength_text(pp) result(t)
       integer, intent(in) :: pp
       character(len=128) :: t
-      if (sim%strong(pp)) then
+      if (sim%ph%strong(pp)) then
         t = 'on: material ' // trim(mat%name) // ' has ' // trim(mat%strength_model)
-      else if (sim%st(pp)%model /= strength_none) then
+      else if (sim%ph%st(pp)%model /= strength_none) then
         t = 'off: &physics strength = .false. (material ' // trim(mat%name) // ' has ' // &
           trim(mat%strength_model) // ')'
       else
@@ -199,7 +183,7 @@ contains
   subroutine sim_block_work(sim, b)
     type(sim_t), intent(inout) :: sim
     integer, intent(in) :: b
-    if (all(shape(sim%trouble) == sim%blocks(b)%n)) return
+    if (all(shape(sim%wk%trouble) == sim%blocks(b)%n)) return
     call shape_work(sim, sim%blocks(b)%lay)
   end subroutine sim_block_work
 
@@ -207,17 +191,12 @@ contains
   subroutine shape_work(sim, bl)
     type(sim_t), intent(inout) :: sim
     type(layout_t), intent(in) :: bl
-    integer :: lo(3), hi(3), n(3)
+    integer :: n(3)
     n = bl%bsize
-    lo = 1 - bl%ng
-    hi = n + bl%ng
-    if (allocated(sim%qsave)) deallocate(sim%qsave, sim%trouble)
-    call euler_work_init(bl, sim%nflow, sim%work)
-    allocate(sim%qsave(n(1), n(2), n(3), sim%nvar), sim%trouble(n(1), n(2), n(3)))
-    if (sim%ls%n == 0) return
-    if (allocated(sim%vel)) deallocate(sim%vel, sim%ls_rhs)
-    call gfm_work_init(bl, sim%nflow, sim%nphase, sim%gwork)
-    allocate(sim%vel(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), 3), sim%ls_rhs(n(1), n(2), n(3)))
+    if (allocated(sim%wk%qsave)) deallocate(sim%wk%qsave, sim%wk%trouble)
+    call euler_work_init(bl, sim%ph%nflow, sim%wk%euler)
+    allocate(sim%wk%qsave(n(1), n(2), n(3), sim%ph%nvar), sim%wk%trouble(n(1), n(2), n(3)))
+    if (sim%ls%n > 0) call gf_fit(sim%gf, bl, sim%ph%nflow, sim%ph%nphase)
   end subroutine shape_work
 
   !> Which bodies carry level sets, and the phases (manual/interfaces.md section 1): the base
@@ -259,11 +238,11 @@ contains
     sim%ls%n = n
     allocate(sim%ls%kind(n), sim%ls%body(n), sim%ls%name(n), sim%ls%velocity(3, n), &
       sim%ls%phase(n))
-    allocate(sim%material(n + 1))
+    allocate(sim%ph%material(n + 1))
     np = 0
     if (sim%ls%base_flows) then
       np = 1
-      sim%material(1) = cfg%base_material
+      sim%ph%material(1) = cfg%base_material
     end if
     n = 0
     do b = 1, cfg%n_bodies
@@ -283,7 +262,7 @@ contains
           sim%ls%kind(n) = ls_material
           np = np + 1
           sim%ls%phase(n) = np
-          sim%material(np) = body%material
+          sim%ph%material(np) = body%material
         end select
         if (sim%ls%kind(n) /= ls_rigid .or. any(abs(body%velocity) > 0.0_wp)) cycle
         ! blocks deep inside a resting rigid body are not computed
@@ -306,7 +285,7 @@ contains
       end associate
     end do
     sim%ls%nphase = np
-    sim%material = sim%material(1:np)
+    sim%ph%material = sim%ph%material(1:np)
 
   contains
 
@@ -377,9 +356,9 @@ contains
                     phi(1, 1, 1, m) = max(phi(1, 1, 1, m), -phi(1, 1, 1, l))
                 end do
               end do
-              blk%q(i, j, k, sim%ils + 1:sim%nvar) = phi(1, 1, 1, :)
-              do p = 1, sim%nphase
-                rest = sim%rest(:, p)
+              blk%q(i, j, k, sim%ph%ils + 1:sim%ph%nvar) = phi(1, 1, 1, :)
+              do p = 1, sim%ph%nphase
+                rest = sim%ph%rest(:, p)
                 rho = rest(1)
                 pres = rest(2)
                 vel = 0.0_wp
@@ -404,9 +383,9 @@ contains
                     vel = 0.0_wp
                   end if
                 end if
-                call eos_energy(sim%eos(p), 1, [rho], [pres], e)
-                off = (p - 1) * sim%nflow
-                blk%q(i, j, k, off + 1:off + sim%nflow) = 0.0_wp
+                call eos_energy(sim%ph%eos(p), 1, [rho], [pres], e)
+                off = (p - 1) * sim%ph%nflow
+                blk%q(i, j, k, off + 1:off + sim%ph%nflow) = 0.0_wp
                 blk%q(i, j, k, off + i_rho) = rho
                 blk%q(i, j, k, off + i_mx) = rho * vel(1)
                 blk%q(i, j, k, off + i_my) = rho * vel(2)
@@ -457,24 +436,24 @@ contains
     nb = real(ceiling(real(count(sim%lay%active), wp) / comm_size()), wp)
     ni = product(real(sim%lay%nmax, wp))
     np = product(real(sim%lay%nmax + 2 * sim%lay%ng, wp))
-    sim%mem(1) = b8 * nb * sim%nvar * (np + 2.0_wp * ni)
+    sim%mem%parts(1) = b8 * nb * sim%ph%nvar * (np + 2.0_wp * ni)
     ! the blocks on the surface of a compact piece of nb blocks, one face halo each
     halo_cells = 0.0_wp
     if (comm_size() > 1) halo_cells = min(nb, 2.0_wp * nd * nb**((nd - 1.0_wp) / nd)) &
       * (np - ni) / (2.0_wp * nd)
-    sim%mem(2) = 2.0_wp * b8 * sim%nvar * halo_cells
-    sim%mem(3) = b8 * sim%ls%n * np * nb
-    sim%mem(4) = b8 * ni * nb
-    sim%mem(5) = b8 * (np * (sim%nflow * (1 + sim%nphase) + 2 * sim%nphase + 3) &
-      + ni * (sim%nvar + 2))
+    sim%mem%parts(2) = 2.0_wp * b8 * sim%ph%nvar * halo_cells
+    sim%mem%parts(3) = b8 * sim%ls%n * np * nb
+    sim%mem%parts(4) = b8 * ni * nb
+    sim%mem%parts(5) = b8 * (np * (sim%ph%nflow * (1 + sim%ph%nphase) + 2 * sim%ph%nphase + 3) &
+      + ni * (sim%ph%nvar + 2))
     ! active and owner, and METIS's graph (offsets, 6 neighbours and weights, vertex
     ! weights, parts, and its own copies) of every block of the grid
-    sim%mem(6) = 100.0_wp * sim%lay%nblocks
-    sim%mem_base = 1024.0_wp * memory_kb('VmRSS')
-    call comm_node_ranks(sim%node_ranks, leader)
-    sim%node_available = 1024.0_wp * node_memory_kb('MemAvailable')
-    if (.not. sim%node_available > 0.0_wp) &
-      sim%node_available = 1024.0_wp * node_memory_kb('MemTotal')
+    sim%mem%parts(6) = 100.0_wp * sim%lay%nblocks
+    sim%mem%base = 1024.0_wp * memory_kb('VmRSS')
+    call comm_node_ranks(sim%mem%node_ranks, leader)
+    sim%mem%node_available = 1024.0_wp * node_memory_kb('MemAvailable')
+    if (.not. sim%mem%node_available > 0.0_wp) &
+      sim%mem%node_available = 1024.0_wp * node_memory_kb('MemTotal')
   end subroutine sim_memory_estimate
 
   !> Refuse, on every rank, a run whose ranks on one node would need more than the node has
@@ -482,14 +461,14 @@ contains
   subroutine memory_check(sim)
     type(sim_t), intent(in) :: sim
     real(wp) :: need
-    need = sim%node_ranks * sum(sim%mem)
+    need = sim%mem%node_ranks * sum(sim%mem%parts)
     call stop_collective('ERROR ' // trim(base_name(sim%cfg%deck_file)) // ' &domain cells: ' &
       // 'the run needs an estimated ' // mem_text(need) // ' on this node (' &
-      // int_text(sim%node_ranks) // trim(merge(' rank  ', ' ranks ', sim%node_ranks == 1)) &
-      // ' of ' // mem_text(sum(sim%mem)) // ' each) ' &
-      // 'but the node has ' // mem_text(sim%node_available) // ' available ' &
+      // int_text(sim%mem%node_ranks) // trim(merge(' rank  ', ' ranks ', sim%mem%node_ranks == 1)) &
+      // ' of ' // mem_text(sum(sim%mem%parts)) // ' each) ' &
+      // 'but the node has ' // mem_text(sim%mem%node_available) // ' available ' &
       // '(/proc/meminfo MemAvailable): use fewer cells, or more nodes', &
-      .not. (sim%node_available > 0.0_wp .and. need > sim%node_available))
+      .not. (sim%mem%node_available > 0.0_wp .and. need > sim%mem%node_available))
   end subroutine memory_check
 
   !> bytes with about 3 digits and a unit: '9766 GiB', '23.4 GiB', '512 MiB', '1.25 MiB'
@@ -514,43 +493,5 @@ contains
     end if
     r = trim(adjustl(buf)) // unit
   end function mem_text
-
-  !> Which parts of the conservation fix apply (m_gfm_conserve), and why.
-  subroutine fix_setup(sim)
-    type(sim_t), intent(inout) :: sim
-    integer :: l
-    logical :: moving
-    allocate(sim%bflux(2, sim%nphase, size(sim%blocks), 3), sim%content(2, sim%nphase))
-    allocate(sim%lost(2, sim%nphase), sim%fixed(2, sim%nphase), sim%open_cells(sim%nphase))
-    allocate(sim%crossing(sim%nphase))
-    sim%open_cells = 0.0_wp
-    sim%crossing = 0.0_wp
-    sim%bflux = 0.0_wp
-    sim%content = 0.0_wp
-    sim%lost = 0.0_wp
-    sim%fixed = 0.0_wp
-    sim%fix_mass = any(sim%strong) .and. sim%cfg%conserve /= 'none'
-    if (.not. sim%fix_mass) then
-      sim%fix_reason = 'off: no solid phase with a surface'
-      if (any(sim%strong)) sim%fix_reason = 'off: &numerics conserve = ''none'''
-      return
-    end if
-    moving = .false.
-    do l = 1, sim%ls%n
-      if (sim%ls%kind(l) == ls_rigid) moving = moving .or. any(abs(sim%ls%velocity(:, l)) > 0.0_wp)
-    end do
-    sim%fix_energy = sim%cfg%conserve == 'mass_energy' .and. .not. sim%ls%base_flows &
-      .and. .not. moving
-    sim%fix_reason = 'mass and energy of the solid phases'
-    if (sim%fix_energy) return
-    sim%fix_reason = 'mass of each solid phase; energy not: '
-    if (sim%cfg%conserve == 'mass') then
-      sim%fix_reason = trim(sim%fix_reason) // ' &numerics conserve = ''mass'''
-    else if (sim%ls%base_flows) then
-      sim%fix_reason = trim(sim%fix_reason) // ' the base material exchanges work with them'
-    else
-      sim%fix_reason = trim(sim%fix_reason) // ' a moving rigid body does work on them'
-    end if
-  end subroutine fix_setup
 
 end module m_simulation

@@ -55,7 +55,7 @@ program sabre
   if (len_trim(cfg%restart) > 0) call output_restart_check(sim, cfg%restart)
   call deck_prepare_output(cfg)
   call log_open(trim(cfg%out_dir) // '/run.log')
-  sim%wall_start = wall
+  sim%clk%wall_start = wall
   call write_run_header(sim)
   deck_text = resolved_deck_text(trim(cfg%out_dir) // '/deck.nml')
   if (len_trim(cfg%restart) > 0) then
@@ -124,12 +124,12 @@ contains
       trim(s%cfg%flux), ', rk_order ', s%cfg%rk_order, ', cfl ', s%cfg%cfl
     call log_line(line)
     call log_line('numerics: ' // trim(s%cfg%numerics_note))
-    if (s%has_strength) call log_line('numerics: flux of eps_p and w_c ' // &
+    if (s%ph%has_strength) call log_line('numerics: flux of eps_p and w_c ' // &
       trim(s%cfg%scalar_flux))
-    if (s%has_strength .and. s%ls%n > 0) call log_line('numerics: S, eps_p, w_c across ' // &
+    if (s%ph%has_strength .and. s%ls%n > 0) call log_line('numerics: S, eps_p, w_c across ' // &
       'surface faces: ' // trim(s%cfg%surface_flux))
-    do k = 1, s%nphase
-      write(line, '(a,i0,a)') 'phase ', k, ': material ' // trim(s%material(k)) // ' (eos ' // &
+    do k = 1, s%ph%nphase
+      write(line, '(a,i0,a)') 'phase ', k, ': material ' // trim(s%ph%material(k)) // ' (eos ' // &
         trim(eos_name(s, k)) // ')'
       if (k == 1 .and. s%ls%base_flows) line = trim(line) // ', the base'
       do l = 1, s%ls%n
@@ -137,20 +137,20 @@ contains
       end do
       call log_line(line)
     end do
-    call log_line('effects: strength ' // trim(s%strength_reason))
+    call log_line('effects: strength ' // trim(s%ph%strength_reason))
     call log_line('effects: thermal ' // thermal_reason(s))
     call log_line('effects: heat conduction off, reaction off (not in this version)')
     call log_line('effects: interfaces ' // trim(interfaces_reason(s)))
-    if (s%ls%n > 0 .and. s%has_strength) call log_line('gfm: conservation fix ' // &
-      trim(s%fix_reason))
-    if (s%has_strength) then
-      write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
+    if (s%ls%n > 0 .and. s%ph%has_strength) call log_line('gfm: conservation fix ' // &
+      trim(s%fix%reason))
+    if (s%ph%has_strength) then
+      write(line, '(a,i0,a)') 'state: ', s%ph%nvar, ' variables per cell (rho, rho u, rho v, ' // &
         'rho w, rho E, rho S (6), rho eps_p, rho w_c'
     else
-      write(line, '(a,i0,a)') 'state: ', s%nvar, ' variables per cell (rho, rho u, rho v, ' // &
+      write(line, '(a,i0,a)') 'state: ', s%ph%nvar, ' variables per cell (rho, rho u, rho v, ' // &
         'rho w, rho E'
     end if
-    if (s%nphase > 1) write(line, '(a,a,i0,a)') trim(line), ' per phase x ', s%nphase, ' phases'
+    if (s%ph%nphase > 1) write(line, '(a,a,i0,a)') trim(line), ' per phase x ', s%ph%nphase, ' phases'
     if (s%ls%n > 0) write(line, '(a,a,i0,a)') trim(line), '; ', s%ls%n, ' level sets'
     line = trim(line) // ')'
     call log_line(line)
@@ -162,15 +162,15 @@ contains
     type(sim_t), intent(in) :: s
     character(len=line_len) :: line
     integer :: k
-    line = 'memory: estimate ' // mem_text(sum(s%mem)) // ' per rank above the ' // &
-      'baseline of ' // mem_text(s%mem_base) // ' (part by part:'
+    line = 'memory: estimate ' // mem_text(sum(s%mem%parts)) // ' per rank above the ' // &
+      'baseline of ' // mem_text(s%mem%base) // ' (part by part:'
     do k = 1, size(mem_parts)
       if (k > 1) line = trim(line) // ','
-      line = trim(line) // ' ' // trim(mem_parts(k)) // ' ' // mem_text(s%mem(k))
+      line = trim(line) // ' ' // trim(mem_parts(k)) // ' ' // mem_text(s%mem%parts(k))
     end do
-    write(line, '(a,a,i0,a)') trim(line), '); this node: ', s%node_ranks, &
-      trim(merge(' rank  ', ' ranks ', s%node_ranks == 1)) // ', ' // &
-      mem_text(s%node_available) // ' available'
+    write(line, '(a,a,i0,a)') trim(line), '); this node: ', s%mem%node_ranks, &
+      trim(merge(' rank  ', ' ranks ', s%mem%node_ranks == 1)) // ', ' // &
+      mem_text(s%mem%node_available) // ' available'
     call log_line(line)
   end subroutine write_memory_estimate
 
@@ -181,7 +181,7 @@ contains
     integer :: k
     name = ''
     do k = 1, s%cfg%n_materials
-      if (s%cfg%materials(k)%name == s%material(p)) name = s%cfg%materials(k)%eos
+      if (s%cfg%materials(k)%name == s%ph%material(p)) name = s%cfg%materials(k)%eos
     end do
   end function eos_name
 
@@ -214,11 +214,11 @@ contains
       write(line, '(a,i0,a)') 'gfm: ', f%gfm%debris, ' inadmissible cells ' // &
         'within 2 cells of a body surface taken out of the body as debris'
       call log_line(line)
-      if (s%fix_mass) then
+      if (s%fix%on) then
         write(line, '(a,es11.4,a,f8.4,a,es11.4,a)') 'gfm: conservation fix took out ', &
           f%fixed(1), ' kg (', f%fixed_percent(1), ' % of the solids'' mass) and ', &
           f%fixed(2), ' J ('
-        if (s%fix_energy) then
+        if (s%fix%energy) then
           write(line, '(a,f8.4,a)') trim(line), f%fixed_percent(2), ' % of their energy); '
         else
           line = trim(line) // 'energy part off); '

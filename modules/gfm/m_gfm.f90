@@ -18,7 +18,7 @@ module m_gfm
   use m_kinds, only: wp, i8
   use m_layout, only: layout_t, cell_volume
   use m_eos, only: eos_t, eos_energy, eos_sound_speed2, eos_pressure
-  use m_euler, only: primitive_row
+  use m_elastoplastic, only: primitive_row
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, i_epsp
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_material
   use m_gfm_probe, only: probe_trilinear, probe_least_squares
@@ -28,7 +28,7 @@ module m_gfm
   implicit none
   private
   public :: gfm_work_t, gfm_work_init, gfm_fill, gfm_rest, gfm_counts_t, gfm_scene_t
-  public :: gfm_drop_debris, gfm_dormant
+  public :: gfm_drop_debris, gfm_dormant, gf_t, gf_fit
   public :: probe_kind_trilinear, probe_kind_least_squares, probe_kind_auto, probe_from_name
 
   integer, parameter :: probe_kind_trilinear = 1, probe_kind_least_squares = 2
@@ -64,7 +64,38 @@ module m_gfm
     real(wp) :: contact = 0.0_wp           !< kappa dx: largest gap of a collision (m)
   end type gfm_scene_t
 
+  !> The ghost-fluid state of a run: what the fills need of the phases and the scene, the
+  !> work space of one block, what the fills did, which blocks are dormant (every cell, halo
+  !> included, beyond every band: not computed), and the work space of the level sets' rates
+  !> (m_levelset_motion).
+  type :: gf_t
+    type(gfm_scene_t) :: scn
+    type(gfm_work_t) :: work
+    type(gfm_counts_t) :: counts
+    logical, allocatable :: dormant(:)
+    real(wp), allocatable :: vel(:, :, :, :)   !< level-set advection velocity (padded block)
+    real(wp), allocatable :: ls_rhs(:, :, :)
+  end type gf_t
+
 contains
+
+  !> Shape gf's work space for a block of layout (or view) bl, when it has another extent
+  !> than the block it was last shaped for (the last block along a direction may differ).
+  subroutine gf_fit(gf, bl, nflow, nphase)
+    type(gf_t), intent(inout) :: gf
+    type(layout_t), intent(in) :: bl
+    integer, intent(in) :: nflow, nphase
+    integer :: lo(3), hi(3), n(3)
+    n = bl%bsize
+    if (allocated(gf%ls_rhs)) then
+      if (all(shape(gf%ls_rhs) == n)) return
+      deallocate(gf%vel, gf%ls_rhs)
+    end if
+    lo = 1 - bl%ng
+    hi = n + bl%ng
+    call gfm_work_init(bl, nflow, nphase, gf%work)
+    allocate(gf%vel(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), 3), gf%ls_rhs(n(1), n(2), n(3)))
+  end subroutine gf_fit
 
   integer function probe_from_name(name) result(k)
     character(len=*), intent(in) :: name

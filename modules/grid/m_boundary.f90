@@ -12,13 +12,21 @@ module m_boundary
   use m_layout, only: layout_t, block_neighbor, wall_neighbor
   use m_blocks, only: block_t
   use m_state, only: i_rho, i_mx, i_en, n_euler, stress_index
+  use m_halo, only: halo_plan_t, halo_exchange, halo_refresh
+  use m_phases, only: phases_t
   implicit none
   private
   public :: bc_kind_t, bc_outflow, bc_symmetry, bc_rigid, bc_periodic, bc_velocity
-  public :: bc_from_name, boundary_apply, boundary_walls
+  public :: bc_from_name, boundary_apply, boundary_walls, fill_ghosts, refresh_ghosts
+  public :: ghosts_all, ghosts_flow, ghosts_level_sets
 
   integer, parameter :: bc_outflow = 1, bc_symmetry = 2, bc_rigid = 3, bc_periodic = 4
   integer, parameter :: bc_velocity = 5
+
+  !> the sets of variables whose ghost cells fill_ghosts fills
+  integer, parameter :: ghosts_all = 0          !< flow of every phase and the level sets
+  integer, parameter :: ghosts_flow = 1         !< flow of every phase
+  integer, parameter :: ghosts_level_sets = 2   !< the level sets
 
   !> The conditions on the six sides of the domain.
   type :: bc_kind_t
@@ -80,7 +88,7 @@ contains
   !> mirror), the others scalars (level sets). A block b with skip(b) set takes only
   !> variables keep..nvar (none without keep), as in m_halo's halo_exchange: the level sets
   !> of a dormant block.
-  subroutine boundary_apply(lay, bc, blocks, nvar, nflow, time, nphase, skip, keep)
+  subroutine boundary_apply(lay, bc, blocks, nvar, nflow, time, nphase, skip, keep, first)
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
     type(block_t), intent(inout) :: blocks(:)
@@ -89,16 +97,21 @@ contains
     integer, intent(in), optional :: nphase
     logical, intent(in), optional :: skip(:)
     integer, intent(in), optional :: keep
+    integer, intent(in), optional :: first   !< the first variable (default 1)
     integer :: b, d, s, kind, np, m1
     real(wp) :: vwall
     np = 1
     if (present(nphase)) np = nphase
     do b = 1, size(blocks)
       m1 = 1
+      if (present(first)) m1 = first
       if (present(skip)) then
         if (skip(b)) then
-          m1 = nvar + 1
-          if (present(keep)) m1 = keep
+          if (present(keep)) then
+            m1 = max(m1, keep)
+          else
+            m1 = nvar + 1
+          end if
         end if
       end if
       if (m1 > nvar) cycle
@@ -228,5 +241,42 @@ contains
       end do
     end do
   end subroutine face_fill
+
+  !> The ghost cells of a set of variables (ghosts_all, ghosts_flow, ghosts_level_sets) on
+  !> every block: the halo exchange (m_halo), then the side conditions of the domain. A block
+  !> in skip (a dormant one, far from every surface) keeps its flow ghosts as they are and
+  !> takes only its level sets', which always move.
+  subroutine fill_ghosts(plan, lay, bc, blocks, ph, set, time, skip)
+    type(halo_plan_t), intent(inout) :: plan
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    type(block_t), intent(inout) :: blocks(:)
+    type(phases_t), intent(in) :: ph
+    integer, intent(in) :: set
+    real(wp), intent(in) :: time
+    logical, intent(in), optional :: skip(:)
+    integer :: first, last
+    first = 1
+    last = ph%nvar
+    if (set == ghosts_flow) last = ph%ils
+    if (set == ghosts_level_sets) first = ph%ils + 1
+    call halo_exchange(plan, blocks, last, first, skip=skip, keep=ph%ils + 1)
+    call boundary_apply(lay, bc, blocks, last, ph%nflow, time, ph%nphase, skip=skip, &
+      keep=ph%ils + 1, first=first)
+  end subroutine fill_ghosts
+
+  !> Block b's flow halo from its neighbours on this rank, then its side conditions: a block
+  !> that wakes after being skipped by fill_ghosts (its neighbours not yet changed).
+  subroutine refresh_ghosts(plan, lay, bc, blocks, ph, b, time)
+    type(halo_plan_t), intent(in) :: plan
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    type(block_t), intent(inout) :: blocks(:)
+    type(phases_t), intent(in) :: ph
+    integer, intent(in) :: b
+    real(wp), intent(in) :: time
+    call halo_refresh(plan, blocks, b, ph%ils, 1)
+    call boundary_apply(lay, bc, blocks(b:b), ph%nvar, ph%nflow, time, ph%nphase)
+  end subroutine refresh_ghosts
 
 end module m_boundary

@@ -14,18 +14,75 @@
 !> sign and the interface test).
 !> levelset_reinit is a convenience for a single block with no neighbours: it fills the halo
 !> itself by zero-gradient extrapolation, so it is wrong across block or periodic
-!> boundaries. No narrow band, no MPI, no state.
+!> boundaries. levelset_reinitialise runs the reinitialisation of a run's moving bodies over
+!> all blocks, with its own state (the level sets before the first pseudo-step and the RK save
+!> space of every block) and a ghost fill of the level sets before every stage.
+!> No narrow band, no MPI here.
 module m_levelset_reinit
   use m_kinds, only: wp
   use m_reconstruct, only: scheme_weno5
   use m_levelset_derivatives, only: levelset_one_sided
   use m_levelset_advect, only: levelset_rk_stage
+  use m_layout, only: layout_t
+  use m_blocks, only: block_t
+  use m_halo, only: halo_plan_t
+  use m_boundary, only: bc_kind_t, fill_ghosts, ghosts_level_sets
+  use m_phases, only: phases_t
   implicit none
   private
   public :: levelset_reinit, levelset_reinit_step, levelset_reinit_rhs
-  public :: levelset_halo_zero_gradient
+  public :: levelset_halo_zero_gradient, levelset_reinitialise
+
+  !> The reinitialisation's state on one block: its level sets before the first pseudo-step
+  !> (padded) and the Runge-Kutta save space (interior), level set by level set.
+  type :: reinit_block_t
+    real(wp), allocatable :: phi0(:, :, :, :), old(:, :, :, :)
+  end type reinit_block_t
 
 contains
+
+  !> Reinitialise the level sets l with moves(l) of every block to signed distances: band
+  !> pseudo-steps of half a cell, so the distance is rebuilt out to band / 2 cells (3 for the
+  !> default band of 6, the depth of the ghost band, beyond which nothing moves the level
+  !> set), the ghost cells of the level sets filled (m_boundary) before every RK stage. The
+  !> cells next to the surface are frozen: the zero level set stays where the advection put
+  !> it. skip: the dormant blocks (their level sets are filled all the same).
+  subroutine levelset_reinitialise(plan, lay, bc, ph, blocks, moves, band, time, skip)
+    type(halo_plan_t), intent(inout) :: plan
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    type(phases_t), intent(in) :: ph
+    type(block_t), intent(inout) :: blocks(:)
+    logical, intent(in) :: moves(:)
+    integer, intent(in) :: band
+    real(wp), intent(in) :: time
+    logical, intent(in) :: skip(:)
+    type(reinit_block_t), allocatable :: rs(:)
+    real(wp) :: dtau
+    integer :: it, stage, b, l, nls
+    nls = size(moves)
+    allocate(rs(size(blocks)))
+    call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_level_sets, time, skip)
+    do b = 1, size(blocks)
+      rs(b)%phi0 = blocks(b)%q(:, :, :, ph%ils + 1:ph%nvar)
+      allocate(rs(b)%old(blocks(b)%n(1), blocks(b)%n(2), blocks(b)%n(3), nls))
+    end do
+    dtau = 0.5_wp * minval(lay%dx(1:lay%ndim))
+    do it = 1, band
+      do stage = 1, 3
+        if (it > 1 .or. stage > 1) &
+          call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_level_sets, time, skip)
+        do b = 1, size(blocks)
+          do l = 1, nls
+            if (.not. moves(l)) cycle
+            call levelset_reinit_step(lay%ndim, blocks(b)%n, lay%ng, lay%dx, &
+              rs(b)%phi0(:, :, :, l), stage, dtau, blocks(b)%q(:, :, :, ph%ils + l), &
+              rs(b)%old(:, :, :, l), freeze=.true.)
+          end do
+        end do
+      end do
+    end do
+  end subroutine levelset_reinitialise
 
   !> iterations pseudo-time RK3 steps of size cfl * min(dx) on one isolated block.
   subroutine levelset_reinit(ndim, n, g, dx, phi, iterations, cfl, scheme)

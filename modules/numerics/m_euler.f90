@@ -10,18 +10,27 @@
 !> Kernels only: no MPI, no I/O, no allocation in the loops (workspace is allocated once).
 module m_euler
   use m_kinds, only: wp
-  use m_eos, only: eos_t, eos_pressure, eos_energy, eos_sound_speed2, eos_temperature
+  use m_eos, only: eos_t, eos_sound_speed2, eos_energy
   use m_reconstruct, only: reconstruct_faces
   use m_flux, only: face_flux, flux_llf_solid, scalar_flux_upwind
   use m_yield, only: strength_t
-  use m_plasticity, only: jaumann_source, radial_return
+  use m_elastoplastic, only: primitive_row, stress_rates
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid, i_sxx, i_syy, i_szz, &
     i_sxy, i_syz, i_sxz, i_epsp, i_wcold
   use m_layout, only: layout_t, cell_volume
   implicit none
   private
-  public :: euler_work_t, euler_work_init, euler_rhs, euler_max_rate, rk_stage_update
-  public :: primitive_row, plastic_correction, solid_temperature, rk_weights
+  public :: numerics_t, euler_work_t, euler_work_init, euler_rhs, euler_max_rate
+  public :: rk_stage_update, rk_weights
+
+  !> The scheme choices of the right-hand side (m_numerics_defaults resolves the deck's)
+  type :: numerics_t
+    integer :: scheme = 3                 !< reconstruction (m_reconstruct)
+    integer :: flux = 1                   !< face flux (m_flux)
+    integer :: scalar_flux = 1            !< flux of rho eps_p, rho w_c (m_flux)
+    !> surface faces keep the LLF flux of S, eps_p and w_c (&numerics surface_flux = 'llf')
+    logical :: surface_llf = .false.
+  end type numerics_t
 
   !> Scratch space for one block and one bundle of pencils, allocated once per run. The
   !> bundle buffers are flat and take the shape (nb, cells along the pencil, 5) of each use.
@@ -65,35 +74,16 @@ contains
     allocate(work%surf(nbmax * (nmax + 1)))
   end subroutine euler_work_init
 
-  !> Primitive variables (rho, u, v, w, p) of one row of cells i = lo..hi.
-  subroutine primitive_row(eos, n, q_rho, q_mx, q_my, q_mz, q_en, rho, u, v, w, p, e)
-    type(eos_t), intent(in) :: eos
-    integer, intent(in) :: n
-    real(wp), intent(in) :: q_rho(n), q_mx(n), q_my(n), q_mz(n), q_en(n)
-    real(wp), intent(out) :: rho(n), u(n), v(n), w(n), p(n), e(n)
-    real(wp) :: rinv
-    integer :: i
-    do i = 1, n
-      rho(i) = q_rho(i)
-      rinv = 1.0_wp / q_rho(i)
-      u(i) = q_mx(i) * rinv
-      v(i) = q_my(i) * rinv
-      w(i) = q_mz(i) * rinv
-      e(i) = q_en(i) * rinv - 0.5_wp * (u(i)**2 + v(i)**2 + w(i)**2)
-    end do
-    call eos_pressure(eos, n, rho, e, p)
-  end subroutine primitive_row
-
   !> rhs = L(q) over the interior of one block; nfallback counts faces that fell back to
   !> first order; failed is set (and the rest skipped) when even the cell values next to a
   !> face are not admissible: the stage cannot go on and the caller recomputes the step.
-  subroutine euler_rhs(lay, eos, st, scheme, flux_kind, scalar_kind, q, rhs, offset, wall, &
-      vwall, work, nfallback, failed, bigphi, trouble, surface_llf)
+  subroutine euler_rhs(lay, eos, st, num, q, rhs, offset, wall, vwall, work, nfallback, &
+      failed, bigphi, trouble)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st    !< strength (used when q carries the stress)
-    integer, intent(in) :: scheme, flux_kind, offset(3)
-    integer, intent(in) :: scalar_kind     !< flux of rho eps_p, rho w_c (m_flux)
+    type(numerics_t), intent(in) :: num
+    integer, intent(in) :: offset(3)
     logical, intent(in) :: wall(2, 3)      !< reflecting sides (m_boundary)
     real(wp), intent(in) :: vwall(2, 3)    !< their normal velocities
     real(wp), intent(in) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
@@ -107,8 +97,6 @@ contains
     !> cells of the interior whose last update was inadmissible (the cell-local fallback,
     !> m_timeloop): every face of theirs is reconstructed at first order
     logical, intent(in), optional :: trouble(:, :, :)
-    !> surface faces keep the LLF flux of S, eps_p and w_c (&numerics surface_flux = 'llf')
-    logical, intent(in), optional :: surface_llf
     integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m
     real(wp) :: rdx, r
     lo = 1 - lay%ng
@@ -142,7 +130,7 @@ contains
           call bundle_x(k, nb, n, g, work%pw)
           call upwind_faces(d, k, nb, n, work%up, work%surf)
           call low_faces(d, k, nb, n, work%low)
-          call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
+          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
             vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
             work%er, work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
@@ -156,7 +144,7 @@ contains
           call bundle_y(k, nb, n, g, work%pw)
           call upwind_faces(d, k, nb, n, work%up, work%surf)
           call low_faces(d, k, nb, n, work%low)
-          call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
+          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
             vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
             work%er, work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
@@ -170,7 +158,7 @@ contains
           call bundle_z(j, nb, n, g, work%pw)
           call upwind_faces(d, j, nb, n, work%up, work%surf)
           call low_faces(d, j, nb, n, work%low)
-          call faces_and_fluxes(eos, st%g, scheme, flux_kind, nb, n, g, nv, wall(:, d), &
+          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
             vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
             work%er, work%cl, work%cr, work%f, nfallback, failed)
           if (failed) return
@@ -198,7 +186,7 @@ contains
   contains
 
     !> The faces of a bundle whose scalars take the upwind flux (m_flux): all of them with
-    !> scalar_kind upwind and no level sets, else those between two real cells of the
+    !> num%scalar_flux upwind and no level sets, else those between two real cells of the
     !> phase; and (with level sets) the faces between a real cell and a ghost, surf = 1 when
     !> the left cell is real, 2 when the right one is. On those the transported variables
     !> (S, eps_p, w_c) move with the mass flux at the real cell's value: the ghost's deviator
@@ -211,7 +199,7 @@ contains
       integer, intent(out) :: surf(nbb, 0:nn)
       logical :: rl(nbb, 0:nn), rr(nbb, 0:nn)
       integer :: ii, jj
-      up = scalar_kind == scalar_flux_upwind
+      up = num%scalar_flux == scalar_flux_upwind
       surf = 0
       if (.not. present(bigphi)) return
       select case (dd)
@@ -233,10 +221,8 @@ contains
           rr(:, jj) = bigphi(1:nbb, c0, jj + 1) < 0.0_wp
         end do
       end select
-      if (scalar_kind == scalar_flux_upwind) up = rl .and. rr
-      if (present(surface_llf)) then
-        if (surface_llf) return
-      end if
+      if (num%scalar_flux == scalar_flux_upwind) up = rl .and. rr
+      if (num%surface_llf) return
       where (rl .and. .not. rr) surf = 1
       where (rr .and. .not. rl) surf = 2
     end subroutine upwind_faces
@@ -473,124 +459,6 @@ contains
       call face_flux(flux_kind, nf, wl, wr, el, er, cl, cr, f)
     end if
   end subroutine faces_and_fluxes
-
-  !> The non-conservative part of the stress equation (manual/theory.md eq. 5.1):
-  !> d(rho S)/dt += rho (2 G D' + W S - S W) (m_plasticity's jaumann_source), with the velocity
-  !> gradient L = grad u by central differences; in axisymmetric geometry L_theta theta = u_r / r.
-  subroutine stress_rates(lay, st, offset, prim, rhs)
-    type(layout_t), intent(in) :: lay
-    type(strength_t), intent(in) :: st
-    integer, intent(in) :: offset(3)
-    real(wp), intent(in) :: prim(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
-    real(wp), intent(inout) :: rhs(:, :, :, :)
-    real(wp) :: l(lay%bsize(1), 3, 3), sdev(lay%bsize(1), 6), src(lay%bsize(1), 6), h(3)
-    integer :: i, j, k, a, b, c, dir(3), n
-    n = lay%bsize(1)
-    h = 0.0_wp
-    h(1:lay%ndim) = 0.5_wp / lay%dx(1:lay%ndim)
-    do k = 1, lay%bsize(3)
-      do j = 1, lay%bsize(2)
-        l = 0.0_wp
-        do b = 1, lay%ndim
-          dir = 0
-          dir(b) = 1
-          do a = 1, 3
-            l(:, a, b) = h(b) * (prim(1+dir(1):n+dir(1), j + dir(2), k + dir(3), 1 + a) &
-              - prim(1-dir(1):n-dir(1), j - dir(2), k - dir(3), 1 + a))
-          end do
-        end do
-        if (lay%axisymmetric) then
-          do i = 1, n
-            l(i, 3, 3) = prim(i, j, k, 2) &
-              / (lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1))
-          end do
-        end if
-        do c = 1, 6
-          sdev(:, c) = prim(1:n, j, k, i_sxx + c - 1)
-        end do
-        call jaumann_source(st, n, sdev, l, src)
-        do c = 1, 6
-          rhs(:, j, k, i_sxx + c - 1) = rhs(:, j, k, i_sxx + c - 1) + prim(1:n, j, k, i_rho) &
-            * src(:, c)
-        end do
-      end do
-    end do
-  end subroutine stress_rates
-
-  !> Temperature of a row of solid cells: the EOS temperature of the internal energy less the
-  !> elastic energy J2 / (2 G rho) and less the stored cold work w_c (manual/theory.md 5.7).
-  subroutine solid_temperature(eos, st, n, rho, e, qrow, temp)
-    type(eos_t), intent(in) :: eos
-    type(strength_t), intent(in) :: st
-    integer, intent(in) :: n
-    real(wp), intent(in) :: rho(n), e(n), qrow(:, :)
-    real(wp), intent(out) :: temp(n)
-    real(wp) :: eth(n), j2(n)
-    j2 = 0.5_wp * (qrow(1:n, i_sxx)**2 + qrow(1:n, i_syy)**2 + qrow(1:n, i_szz)**2) &
-      + qrow(1:n, i_sxy)**2 + qrow(1:n, i_syz)**2 + qrow(1:n, i_sxz)**2
-    eth = e - qrow(1:n, i_wcold) / rho
-    if (st%g > 0.0_wp) eth = eth - j2 / (2.0_wp * st%g * rho**3)
-    call eos_temperature(eos, n, rho, eth, temp)
-  end subroutine solid_temperature
-
-  !> Radial return after a stage (manual/theory.md section 5): the stage's elastic predictor
-  !> is brought back to the yield surface cell by cell. Total energy is untouched: of the
-  !> plastic work, the Taylor-Quinney share beta stays in e as heat and 1 - beta is booked as
-  !> stored work w_c, which the temperature leaves out.
-  !> With level sets, only the phase's real cells are returned (ghost states are rebuilt before
-  !> every stage); a cell that has just turned real (fresh) holds a ghost state whose
-  !> deviator was built for the flux (the reflected normal stress of MVI) and never loaded
-  !> material: it is brought to the yield surface without plastic strain or stored work.
-  !> fresh is read only together with isreal.
-  subroutine plastic_correction(lay, eos, st, thermal, dt, q, isreal, fresh)
-    type(layout_t), intent(in) :: lay
-    type(eos_t), intent(in) :: eos
-    type(strength_t), intent(in) :: st
-    logical, intent(in) :: thermal   !< false: the yield stress sees the reference temperature
-    real(wp), intent(in) :: dt
-    real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
-    logical, intent(in), optional :: isreal(:, :, :), fresh(:, :, :)
-    real(wp), dimension(lay%bsize(1)) :: rho, u, v, w, p, e, temp, epsp, dwp, epsp0
-    real(wp) :: sdev(lay%bsize(1), 6)
-    integer :: j, k, m, n
-    n = lay%bsize(1)
-    do k = 1, lay%bsize(3)
-      do j = 1, lay%bsize(2)
-        if (present(isreal)) then
-          ! a row of ghosts and rest states only: nothing to return (void costs nothing)
-          if (.not. any(isreal(:, j, k))) cycle
-        end if
-        call primitive_row(eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
-          q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
-        if (thermal) then
-          call solid_temperature(eos, st, n, rho, e, q(1:n, j, k, :), temp)
-        else
-          temp = st%t_ref
-        end if
-        do m = 1, 6
-          sdev(:, m) = q(1:n, j, k, i_sxx + m - 1) / rho
-        end do
-        epsp = q(1:n, j, k, i_epsp) / rho
-        epsp0 = epsp
-        call radial_return(st, n, sdev, epsp, temp, dt, dwp)
-        if (present(fresh)) then
-          where (fresh(:, j, k) .or. .not. isreal(:, j, k))
-            epsp = epsp0
-            dwp = 0.0_wp
-          end where
-        end if
-        do m = 1, 6
-          if (present(isreal)) then
-            where (isreal(:, j, k)) q(1:n, j, k, i_sxx + m - 1) = rho * sdev(:, m)
-          else
-            q(1:n, j, k, i_sxx + m - 1) = rho * sdev(:, m)
-          end if
-        end do
-        q(1:n, j, k, i_epsp) = rho * epsp
-        q(1:n, j, k, i_wcold) = q(1:n, j, k, i_wcold) + (1.0_wp - st%taylor_quinney) * dwp
-      end do
-    end do
-  end subroutine plastic_correction
 
   !> Largest sum over directions of (|u_d| + c) / dx_d over the interior: dt = cfl / rate.
   !> Also reports whether every interior cell is admissible (rho > 0, c^2 > 0, finite).

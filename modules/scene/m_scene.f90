@@ -2,14 +2,17 @@
 !> the cells of the blocks (a later body overrides an earlier one): which cells a body holds,
 !> its signed distance (the initial level set of a body of another material, void or rigid;
 !> manual/interfaces.md), and whether a rigid body covers whole blocks (which are then not
-!> computed and act as exact rigid walls for their neighbours, m_boundary).
+!> computed and act as exact rigid walls for their neighbours, m_boundary), and the motion of
+!> a moving rigid body, whose level set is its distance at the time of each stage.
 module m_scene
   use m_kinds, only: wp
   use m_config, only: body_t
   use m_layout, only: layout_t, block_offset, block_extent
+  use m_blocks, only: block_t
+  use m_levelset_bodies, only: ls_set_t, ls_rigid
   implicit none
   private
-  public :: inside_body, cell_centre, rigid_block_status, body_distance
+  public :: inside_body, cell_centre, rigid_block_status, body_distance, rigid_bodies_move
 
 contains
 
@@ -102,5 +105,32 @@ contains
     if (nin == 0) status = 0
     if (nin == product(n)) status = 2
   end function rigid_block_status
+
+  !> The level sets (variables ils + l) of the moving rigid bodies at time t on every cell of
+  !> the blocks, halo included: each body's distance, moved by its velocity times t.
+  subroutine rigid_bodies_move(lay, bodies, ls, ils, blocks, t)
+    type(layout_t), intent(in) :: lay
+    type(body_t), intent(in) :: bodies(:)
+    type(ls_set_t), intent(in) :: ls
+    integer, intent(in) :: ils
+    type(block_t), intent(inout) :: blocks(:)
+    real(wp), intent(in) :: t
+    integer :: b, l, i, j, k
+    do l = 1, ls%n
+      if (ls%kind(l) /= ls_rigid .or. .not. any(abs(ls%velocity(:, l)) > 0.0_wp)) cycle
+      do b = 1, size(blocks)
+        associate (q => blocks(b)%q, body => bodies(ls%body(l)))
+          do k = lbound(q, 3), ubound(q, 3)
+            do j = lbound(q, 2), ubound(q, 2)
+              do i = lbound(q, 1), ubound(q, 1)
+                q(i, j, k, ils + l) = body_distance(body, lay%ndim, &
+                  cell_centre(lay, blocks(b)%offset, i, j, k) - t * ls%velocity(:, l))
+              end do
+            end do
+          end do
+        end associate
+      end do
+    end do
+  end subroutine rigid_bodies_move
 
 end module m_scene

@@ -1,0 +1,126 @@
+!> One time step of sim%clk%dt (DESIGN section 5), as a recipe: the TVD Runge-Kutta stages,
+!> each of them
+!>   fill ghosts (halo exchange + side conditions)     m_boundary
+!>   ghost-fluid stage and the flow ghosts again        m_gfm_stage, m_boundary
+!>   on every block: the phases' right-hand sides, the level sets' rates, the stage update,
+!>   the phases' corrections, and the cell-local fallback   m_gfm_stage, m_levelset_motion,
+!>                                                          m_euler, m_fallback
+!> The numerics live in the modules named; this strings them together.
+module m_step
+  use m_kinds, only: wp, i8
+  use m_simulation, only: sim_t, sim_block_work
+  use m_boundary, only: fill_ghosts, ghosts_all, ghosts_flow, boundary_walls
+  use m_euler, only: rk_stage_update
+  use m_fallback, only: find_trouble
+  use m_levelset_motion, only: levelset_rates
+  use m_gfm_stage, only: ghost_fluid_fill, phase_rhs, phase_corrections
+  use m_comm, only: comm_any, comm_sum
+  use m_timers, only: timer_start, timer_stop
+  implicit none
+  private
+  public :: advance
+
+  !> the time of each stage within the step, in units of dt, for RK orders 1, 2 and 3
+  real(wp), parameter :: stage_time(3, 3) = reshape([0.0_wp, 0.0_wp, 0.0_wp, &
+    0.0_wp, 1.0_wp, 0.0_wp, 0.0_wp, 1.0_wp, 0.5_wp], [3, 3])
+
+contains
+
+  !> One step by TVD Runge-Kutta of order rk_order. A stage whose state has no admissible
+  !> cell values somewhere ends the step on every rank (sim%diag%step_failed): the caller
+  !> recomputes it at first order (m_fallback).
+  subroutine advance(sim)
+    type(sim_t), intent(inout) :: sim
+    integer :: stage, b, nbad, nf
+    logical :: edge, failed, wall(2, 3)
+    real(wp) :: t, vwall(2, 3)
+    nf = 0
+    failed = .false.
+    sim%diag%step_failed = .false.
+    if (sim%fix%on) then
+      sim%fix%bflux = 0.0_wp
+      sim%fix%lost = 0.0_wp
+    end if
+    do stage = 1, sim%cfg%rk_order
+      t = sim%clk%time + stage_time(stage, sim%cfg%rk_order) * sim%clk%dt
+      call timer_start(sim%timers, 'halo')
+      call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_all, t, &
+        sim%gf%dormant)
+      call timer_stop(sim%timers, 'halo')
+      if (sim%ls%n > 0) then
+        call timer_start(sim%timers, 'gfm')
+        call ghost_fluid_fill(sim%gf, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, &
+          sim%cfg%bodies, sim%blocks, t)
+        call timer_stop(sim%timers, 'gfm')
+        call timer_start(sim%timers, 'halo')
+        call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_flow, t, &
+          sim%gf%dormant)
+        call timer_stop(sim%timers, 'halo')
+      end if
+      call timer_start(sim%timers, 'fluxes')
+      do b = 1, size(sim%blocks)
+        call sim_block_work(sim, b)
+        associate (blk => sim%blocks(b), n => sim%blocks(b)%n)
+          ! a block of void or rigid interior far from every surface holds a rest state
+          ! that nothing changes: no fluxes (DESIGN: void costs nothing)
+          if (sim%gf%dormant(b)) then
+            if (stage == 1) blk%q0 = blk%q(1:n(1), 1:n(2), 1:n(3), :)
+            cycle
+          end if
+          call boundary_walls(sim%lay, sim%bc, blk, t, wall, vwall)
+          ! the stage input, for the cell-local fallback (at stage 1 it is q0, kept anyway)
+          if (stage > 1) sim%wk%qsave = blk%q(1:n(1), 1:n(2), 1:n(3), :)
+          call block_stage(sim, b, stage, wall, vwall, nf, failed)
+          if (failed) exit
+          ! the cell-local fallback: the stage again with every face of the cells it left
+          ! inadmissible at first order (one on a side shared with another block is left
+          ! to the step fallback)
+          call find_trouble(sim%lay, sim%ph, blk, sim%wk%trouble, nbad, edge)
+          if (nbad > 0 .and. .not. edge) then
+            if (stage > 1) then
+              blk%q(1:n(1), 1:n(2), 1:n(3), :) = sim%wk%qsave
+            else
+              blk%q(1:n(1), 1:n(2), 1:n(3), :) = blk%q0
+            end if
+            call block_stage(sim, b, stage, wall, vwall, nf, failed, sim%wk%trouble)
+            if (failed) exit
+            sim%diag%cells_low = sim%diag%cells_low + nbad
+          end if
+        end associate
+      end do
+      call timer_stop(sim%timers, 'fluxes')
+      sim%diag%step_failed = comm_any(failed)
+      if (sim%diag%step_failed) exit
+    end do
+    sim%diag%fallback_faces = sim%diag%fallback_faces + int(nf, i8)
+    sim%diag%fallback_step = comm_sum(int(nf, i8))
+  end subroutine advance
+
+  !> One RK stage on block b: the right-hand sides of every phase (the faces of the trouble
+  !> cells at first order when the mask is given) and of the level sets, the stage update,
+  !> the phases' corrections.
+  subroutine block_stage(sim, b, stage, wall, vwall, nf, failed, trouble)
+    type(sim_t), intent(inout) :: sim
+    integer, intent(in) :: b, stage
+    logical, intent(in) :: wall(2, 3)
+    real(wp), intent(in) :: vwall(2, 3)
+    integer, intent(inout) :: nf
+    logical, intent(inout) :: failed
+    logical, intent(in), optional :: trouble(:, :, :)
+    integer :: p
+    do p = 1, sim%ph%nphase
+      call phase_rhs(sim%gf, sim%ls, sim%ph, sim%num, sim%fix, sim%blocks(b), b, p, stage, &
+        wall, vwall, sim%wk%euler, nf, failed, trouble)
+    end do
+    if (failed) return
+    if (sim%ls%n > 0) call levelset_rates(sim%lay, sim%ls, sim%ph, sim%cfg%band, &
+      sim%blocks(b), sim%gf%vel, sim%gf%ls_rhs, sim%gf%work%bigphi, sim%gf%work%owner)
+    associate (blk => sim%blocks(b))
+      call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%clk%dt, blk%q, blk%q0, &
+        blk%rhs)
+    end associate
+    call phase_corrections(sim%gf, sim%ls, sim%ph, sim%fix, sim%blocks(b), sim%clk%dt, &
+      sim%cfg%thermal)
+  end subroutine block_stage
+
+end module m_step
