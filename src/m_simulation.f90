@@ -15,7 +15,7 @@ module m_simulation
   use m_boundary, only: bc_kind_t, bc_from_name
   use m_eos, only: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial, &
     eos_energy, eos_prepare
-  use m_euler, only: euler_work_t, euler_work_init, numerics_t
+  use m_euler, only: euler_work_t, euler_work_init, numerics_t, euler_max_rate
   use m_phases, only: phases_t
   use m_fallback, only: counters_t
   use m_gfm_conserve, only: fix_t, fix_setup
@@ -27,12 +27,13 @@ module m_simulation
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid
   use m_yield, only: strength_t, strength_from_material, strength_none
   use m_timers, only: timers_t, memory_kb, node_memory_kb
-  use m_comm, only: comm_rank, comm_size, comm_node_ranks
+  use m_comm, only: comm_rank, comm_size, comm_node_ranks, comm_any, comm_max
   use m_errors, only: stop_collective
   use m_deck_text, only: base_name, int_text
   implicit none
   private
-  public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, mem_parts, mem_text
+  public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, sim_rate, mem_parts, &
+    mem_text
 
   !> the parts of the memory estimate (sim_memory_estimate), in the order of sim_t%mem
   character(len=*), parameter :: mem_parts(6) = [character(len=10) :: 'state', 'halos', &
@@ -493,5 +494,29 @@ contains
     end if
     r = trim(adjustl(buf)) // unit
   end function mem_text
+
+  !> The global signal rate (max over ranks) for the CFL step (dt = cfl / rate), and whether
+  !> every cell of every rank is admissible.
+  subroutine sim_rate(sim, rate, ok)
+    type(sim_t), intent(inout) :: sim
+    real(wp), intent(out) :: rate
+    logical, intent(out) :: ok
+    real(wp) :: r
+    logical :: good, all_good
+    integer :: b, p
+    rate = 0.0_wp
+    all_good = .true.
+    do b = 1, size(sim%blocks)
+      do p = 1, sim%ph%nphase
+        call euler_max_rate(sim%blocks(b)%lay, sim%ph%eos(p), sim%ph%shear(p), &
+          sim%blocks(b)%q(:, :, :, sim%ph%lo(p):sim%ph%hi(p)), r, good)
+        rate = max(rate, r)
+        all_good = all_good .and. good
+      end do
+    end do
+    ok = .not. comm_any(.not. all_good)
+    rate = comm_max(rate)
+    if (.not. rate > 0.0_wp) rate = tiny(1.0_wp)
+  end subroutine sim_rate
 
 end module m_simulation

@@ -5,9 +5,9 @@
 !> stop at the wall-clock limit or a batch queue's signal.
 module m_timeloop
   use m_kinds, only: wp, i8, line_len
-  use m_simulation, only: sim_t
+  use m_simulation, only: sim_t, sim_rate
   use m_step, only: advance
-  use m_euler, only: euler_max_rate, numerics_t
+  use m_euler, only: numerics_t
   use m_fallback, only: fallback_step, fallback_numerics
   use m_levelset_bodies, only: ls_material, ls_void
   use m_levelset_reinit, only: levelset_reinitialise
@@ -16,7 +16,7 @@ module m_timeloop
     step_file_name
   use m_history, only: history_t, history_open, history_write, history_close
   use m_config, only: is_set
-  use m_comm, only: comm_max, comm_any, comm_wtime, comm_bcast, comm_is_root
+  use m_comm, only: comm_max, comm_wtime, comm_bcast, comm_is_root
   use m_errors, only: stop_collective, log_line
   use m_signals, only: signal_caught, signal_name
   use m_timers, only: timer_start, timer_stop
@@ -58,7 +58,7 @@ contains
     end if
     worst_step = 0.0_wp
     call progress_start(sim, progress)
-    call step_size(sim, rate, ok)
+    call sim_rate(sim, rate, ok)
     stop_bad = .not. ok
     do
       if (stop_bad .or. at_end()) exit
@@ -67,13 +67,13 @@ contains
       call advance(sim)
       call timer_start(sim%timers, 'dt')
       ok = .false.
-      if (.not. sim%diag%step_failed) call step_size(sim, rate, ok)
+      if (.not. sim%diag%step_failed) call sim_rate(sim, rate, ok)
       call timer_stop(sim%timers, 'dt')
       if (.not. ok) then
         call fallback_step(sim, sim%clk%step + 1, sim%clk%dt, &
           sim%diag%first_order_steps + 1, redo_first_order, ok)
         sim%diag%first_order_steps = sim%diag%first_order_steps + 1
-        if (ok) call step_size(sim, rate, ok)
+        if (ok) call sim_rate(sim, rate, ok)
       end if
       stop_bad = .not. ok
       if (mod(sim%clk%step + 1, sim%cfg%reinit_every) == 0 .and. any(moves)) then
@@ -87,7 +87,7 @@ contains
         call conserve(.true., changed)
         call timer_stop(sim%timers, 'gfm')
         ! the next step's size from the fixed state (as a restart from here would have it)
-        if (changed) call step_size(sim, rate, ok)
+        if (changed) call sim_rate(sim, rate, ok)
         stop_bad = .not. ok
       end if
       sim%clk%time = sim%clk%time + sim%clk%dt
@@ -210,31 +210,8 @@ contains
       sim%num = fallback_numerics(keep)
       call advance(sim)
       sim%num = keep
-      if (.not. sim%diag%step_failed) call step_size(sim, rate, ok)
+      if (.not. sim%diag%step_failed) call sim_rate(sim, rate, ok)
     end select
   end subroutine redo_first_order
-
-  !> Global signal rate (max over ranks) and admissibility of every cell.
-  subroutine step_size(sim, rate, ok)
-    type(sim_t), intent(inout) :: sim
-    real(wp), intent(out) :: rate
-    logical, intent(out) :: ok
-    real(wp) :: r
-    logical :: good, all_good
-    integer :: b, p
-    rate = 0.0_wp
-    all_good = .true.
-    do b = 1, size(sim%blocks)
-      do p = 1, sim%ph%nphase
-        call euler_max_rate(sim%blocks(b)%lay, sim%ph%eos(p), sim%ph%shear(p), &
-          sim%blocks(b)%q(:, :, :, sim%ph%lo(p):sim%ph%hi(p)), r, good)
-        rate = max(rate, r)
-        all_good = all_good .and. good
-      end do
-    end do
-    ok = .not. comm_any(.not. all_good)
-    rate = comm_max(rate)
-    if (.not. rate > 0.0_wp) rate = tiny(1.0_wp)
-  end subroutine step_size
 
 end module m_timeloop

@@ -97,7 +97,7 @@ contains
     !> cells of the interior whose last update was inadmissible (the cell-local fallback,
     !> m_timeloop): every face of theirs is reconstructed at first order
     logical, intent(in), optional :: trouble(:, :, :)
-    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m
+    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m, c, nc
     real(wp) :: rdx, r
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
@@ -122,49 +122,40 @@ contains
       ! pencil frame: (rho, u_normal, u_t1, u_t2, p); bundles of pencils, the bundle index
       ! contiguous: x pencils bundled over j, y and z pencils over i
       select case (d)
-      case (1)
+      case (1)   ! x pencils at each k, bundled over j
         perm = [1, 2, 3, 4, 5, i_sxx, i_sxy, i_sxz, i_syy, i_szz, i_syz, i_epsp, &
           i_wcold]
         nb = lay%bsize(2)
-        do k = 1, lay%bsize(3)
-          call bundle_x(k, nb, n, g, work%pw)
-          call upwind_faces(d, k, nb, n, work%up, work%surf)
-          call low_faces(d, k, nb, n, work%low)
-          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
-            work%er, work%cl, work%cr, work%f, nfallback, failed)
-          if (failed) return
-          call scatter_x(k, nb, n, work%f)
-        end do
-      case (2)
+        nc = lay%bsize(3)
+      case (2)   ! y pencils at each k, bundled over i
         perm = [1, 3, 2, 4, 5, i_syy, i_sxy, i_syz, i_sxx, i_szz, i_sxz, i_epsp, &
           i_wcold]
         nb = lay%bsize(1)
-        do k = 1, lay%bsize(3)
-          call bundle_y(k, nb, n, g, work%pw)
-          call upwind_faces(d, k, nb, n, work%up, work%surf)
-          call low_faces(d, k, nb, n, work%low)
-          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
-            work%er, work%cl, work%cr, work%f, nfallback, failed)
-          if (failed) return
-          call scatter_y(k, nb, n, work%f)
-        end do
-      case default
+        nc = lay%bsize(3)
+      case default   ! z pencils at each j, bundled over i
         perm = [1, 4, 2, 3, 5, i_szz, i_sxz, i_syz, i_sxx, i_syy, i_sxy, i_epsp, &
           i_wcold]
         nb = lay%bsize(1)
-        do j = 1, lay%bsize(2)
-          call bundle_z(j, nb, n, g, work%pw)
-          call upwind_faces(d, j, nb, n, work%up, work%surf)
-          call low_faces(d, j, nb, n, work%low)
-          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
-            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
-            work%er, work%cl, work%cr, work%f, nfallback, failed)
-          if (failed) return
-          call scatter_z(j, nb, n, work%f)
-        end do
+        nc = lay%bsize(2)
       end select
+      do c = 1, nc
+        if (d == 1) then
+          call bundle_x(c, nb, n, g, work%pw)
+        else
+          call bundle_yz(d, c, nb, n, g, work%pw)
+        end if
+        call upwind_faces(d, c, nb, n, work%up, work%surf)
+        call low_faces(d, c, nb, n, work%low)
+        call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
+          vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
+          work%er, work%cl, work%cr, work%f, nfallback, failed)
+        if (failed) return
+        if (d == 1) then
+          call scatter_x(c, nb, n, work%f)
+        else
+          call scatter_yz(d, c, nb, n, work%f)
+        end if
+      end do
     end do
     if (lay%axisymmetric) then
       ! the hoop stress: the pressure term that the r-weighted divergence leaves (eq. 1.1)
@@ -298,59 +289,50 @@ contains
       end do
     end subroutine scatter_x
 
-    subroutine bundle_y(k0, nbb, nn, gg, pw)
-      integer, intent(in) :: k0, nbb, nn, gg
+    !> y or z pencils (dd = 2, 3) at k = c0 or j = c0, bundled over i
+    subroutine bundle_yz(dd, c0, nbb, nn, gg, pw)
+      integer, intent(in) :: dd, c0, nbb, nn, gg
       real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, nv)
       integer :: mm, jj
       do mm = 1, nv
         do jj = 1 - gg, nn + gg
-          pw(:, jj, mm) = work%prim(1:nbb, jj, k0, perm(mm))
+          if (dd == 2) then
+            pw(:, jj, mm) = work%prim(1:nbb, jj, c0, perm(mm))
+          else
+            pw(:, jj, mm) = work%prim(1:nbb, c0, jj, perm(mm))
+          end if
         end do
       end do
-    end subroutine bundle_y
+    end subroutine bundle_yz
 
-    subroutine scatter_y(k0, nbb, nn, f)
-      integer, intent(in) :: k0, nbb, nn
+    subroutine scatter_yz(dd, c0, nbb, nn, f)
+      integer, intent(in) :: dd, c0, nbb, nn
       real(wp), intent(in) :: f(nbb, 0:nn, nv)
       integer :: mm, jj, ii
+      logical :: at_lo, at_hi
       do mm = 1, nv
         do jj = 1, nn
-          rhs(1:nbb, jj, k0, perm(mm)) = rhs(1:nbb, jj, k0, perm(mm)) &
-            - rdx * (f(:, jj, mm) - f(:, jj - 1, mm))
+          if (dd == 2) then
+            rhs(1:nbb, jj, c0, perm(mm)) = rhs(1:nbb, jj, c0, perm(mm)) &
+              - rdx * (f(:, jj, mm) - f(:, jj - 1, mm))
+          else
+            rhs(1:nbb, c0, jj, perm(mm)) = rhs(1:nbb, c0, jj, perm(mm)) &
+              - rdx * (f(:, jj, mm) - f(:, jj - 1, mm))
+          end if
         end do
       end do
       do ii = 1, nbb
-        if (side(2, 1, ii, 1, k0)) call edge(rdx * f(ii, 0, :), ii)
-        if (side(2, 2, ii, nn, k0)) call edge(-rdx * f(ii, nn, :), ii)
+        if (dd == 2) then
+          at_lo = side(2, 1, ii, 1, c0)
+          at_hi = side(2, 2, ii, nn, c0)
+        else
+          at_lo = side(3, 1, ii, c0, 1)
+          at_hi = side(3, 2, ii, c0, nn)
+        end if
+        if (at_lo) call edge(rdx * f(ii, 0, :), ii)
+        if (at_hi) call edge(-rdx * f(ii, nn, :), ii)
       end do
-    end subroutine scatter_y
-
-    subroutine bundle_z(j0, nbb, nn, gg, pw)
-      integer, intent(in) :: j0, nbb, nn, gg
-      real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, nv)
-      integer :: mm, kk
-      do mm = 1, nv
-        do kk = 1 - gg, nn + gg
-          pw(:, kk, mm) = work%prim(1:nbb, j0, kk, perm(mm))
-        end do
-      end do
-    end subroutine bundle_z
-
-    subroutine scatter_z(j0, nbb, nn, f)
-      integer, intent(in) :: j0, nbb, nn
-      real(wp), intent(in) :: f(nbb, 0:nn, nv)
-      integer :: mm, kk, ii
-      do mm = 1, nv
-        do kk = 1, nn
-          rhs(1:nbb, j0, kk, perm(mm)) = rhs(1:nbb, j0, kk, perm(mm)) &
-            - rdx * (f(:, kk, mm) - f(:, kk - 1, mm))
-        end do
-      end do
-      do ii = 1, nbb
-        if (side(3, 1, ii, j0, 1)) call edge(rdx * f(ii, 0, :), ii)
-        if (side(3, 2, ii, j0, nn)) call edge(-rdx * f(ii, nn, :), ii)
-      end do
-    end subroutine scatter_z
+    end subroutine scatter_yz
 
     !> whether cell (i0, j0, k0) lies on the domain's low (lh = 1) or high (2) side in
     !> direction dd (not a periodic one) and is real for the phase

@@ -228,9 +228,8 @@ contains
     integer, intent(in), optional :: first
     logical, intent(in), optional :: skip(:)
     integer, intent(in), optional :: keep
-    integer :: r, k, m, pos, i, j, kk, c, m1, nv, mc
+    integer :: r, c, m1, nv, mc
     integer, allocatable :: scount(:), rcount(:), ranks(:)
-    type(piece_t) :: pc
     m1 = 1
     if (present(first)) m1 = first
     nv = nvar - m1 + 1
@@ -246,20 +245,7 @@ contains
       ranks(r) = plan%partner(r)%rank
       scount(r) = plan%partner(r)%ncells_send * nv
       rcount(r) = plan%partner(r)%ncells_recv * nv
-      pos = 0
-      do k = 1, size(plan%partner(r)%send)
-        pc = plan%partner(r)%send(k)
-        do m = m1, nvar
-          do kk = pc%lo(3), pc%hi(3)
-            do j = pc%lo(2), pc%hi(2)
-              do i = pc%lo(1), pc%hi(1)
-                pos = pos + 1
-                plan%sendbuf(pos, r) = blocks(pc%local)%q(i, j, kk, m)
-              end do
-            end do
-          end do
-        end do
-      end do
+      call carry(plan%partner(r)%send, plan%sendbuf(:, r), into=.true.)
     end do
     if (plan%npartner > 0) call exchange_start(plan%ex, ranks, plan%sendbuf, scount, &
       plan%recvbuf, rcount)
@@ -275,21 +261,38 @@ contains
     end do
     if (plan%npartner > 0) call exchange_wait(plan%ex, plan%recvbuf)
     do r = 1, plan%npartner
+      call carry(plan%partner(r)%recv, plan%recvbuf(:, r), into=.false.)
+    end do
+
+  contains
+
+    !> the pieces of one partner, variables m1..nvar, into its buffer (into) or out of it
+    subroutine carry(list, buf, into)
+      type(piece_t), intent(in) :: list(:)
+      real(wp), intent(inout) :: buf(:)
+      logical, intent(in) :: into
+      integer :: kp, mv, i, j, kk, pos
       pos = 0
-      do k = 1, size(plan%partner(r)%recv)
-        pc = plan%partner(r)%recv(k)
-        do m = m1, nvar
-          do kk = pc%lo(3), pc%hi(3)
-            do j = pc%lo(2), pc%hi(2)
-              do i = pc%lo(1), pc%hi(1)
-                pos = pos + 1
-                blocks(pc%local)%q(i, j, kk, m) = plan%recvbuf(pos, r)
+      do kp = 1, size(list)
+        associate (pc => list(kp), q => blocks(list(kp)%local)%q)
+          do mv = m1, nvar
+            do kk = pc%lo(3), pc%hi(3)
+              do j = pc%lo(2), pc%hi(2)
+                do i = pc%lo(1), pc%hi(1)
+                  pos = pos + 1
+                  if (into) then
+                    buf(pos) = q(i, j, kk, mv)
+                  else
+                    q(i, j, kk, mv) = buf(pos)
+                  end if
+                end do
               end do
             end do
           end do
-        end do
+        end associate
       end do
-    end do
+    end subroutine carry
+
   end subroutine halo_exchange
 
   !> The local copies into block b alone, variables first..nvar: the halo that a call of
@@ -318,23 +321,15 @@ contains
     end if
   end subroutine copy_piece
 
-  !> dst(box lo..hi) = src(box starting at slo), two distinct blocks: explicit loops, so that
-  !> no temporary is made for a possible overlap of the two sections.
+  !> dst(box lo..hi) = src(box starting at slo), two distinct blocks.
   subroutine copy_box(ng, dst, src, lo, hi, slo, m1, nvar)
     integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), m1, nvar
     real(wp), intent(inout) :: dst(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
     real(wp), intent(in) :: src(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
-    integer :: i, j, k, m, o(3)
-    o = slo - lo
-    do m = m1, nvar
-      do k = lo(3), hi(3)
-        do j = lo(2), hi(2)
-          do i = lo(1), hi(1)
-            dst(i, j, k, m) = src(i + o(1), j + o(2), k + o(3), m)
-          end do
-        end do
-      end do
-    end do
+    integer :: shi(3)
+    shi = slo + hi - lo
+    dst(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), m1:nvar) = &
+      src(slo(1):shi(1), slo(2):shi(2), slo(3):shi(3), m1:nvar)
   end subroutine copy_box
 
   !> The same within one block (a periodic direction with a single block): the two boxes
@@ -342,17 +337,10 @@ contains
   subroutine copy_within(ng, q, lo, hi, slo, m1, nvar)
     integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), m1, nvar
     real(wp), intent(inout) :: q(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
-    integer :: i, j, k, m, o(3)
-    o = slo - lo
-    do m = m1, nvar
-      do k = lo(3), hi(3)
-        do j = lo(2), hi(2)
-          do i = lo(1), hi(1)
-            q(i, j, k, m) = q(i + o(1), j + o(2), k + o(3), m)
-          end do
-        end do
-      end do
-    end do
+    integer :: shi(3)
+    shi = slo + hi - lo
+    q(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), m1:nvar) = &
+      q(slo(1):shi(1), slo(2):shi(2), slo(3):shi(3), m1:nvar)
   end subroutine copy_within
 
 end module m_halo
