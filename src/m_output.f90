@@ -175,27 +175,19 @@ contains
     character(len=*), intent(in) :: name
     real(wp), intent(in) :: qrow(:, :), rho(:)
     real(wp) :: aux(size(rho))
+    character(len=*), parameter :: names(7) = [character(len=5) :: 'sxx', 'syy', 'szz', &
+      'sxy', 'syz', 'sxz', 'eps_p']
+    integer, parameter :: var(7) = [i_sxx, i_syy, i_szz, i_sxy, i_syz, i_sxz, i_epsp]
+    integer :: k
     aux = 0.0_wp
     if (size(qrow, 2) < i_epsp) return
-    select case (name)
-    case ('sxx')
-      aux = qrow(:, i_sxx) / rho
-    case ('syy')
-      aux = qrow(:, i_syy) / rho
-    case ('szz')
-      aux = qrow(:, i_szz) / rho
-    case ('sxy')
-      aux = qrow(:, i_sxy) / rho
-    case ('syz')
-      aux = qrow(:, i_syz) / rho
-    case ('sxz')
-      aux = qrow(:, i_sxz) / rho
-    case ('eps_p')
-      aux = qrow(:, i_epsp) / rho
-    case default
+    k = findloc(names, name, 1)
+    if (k > 0) then
+      aux = qrow(:, var(k)) / rho
+    else
       aux = sqrt(1.5_wp * (qrow(:, i_sxx)**2 + qrow(:, i_syy)**2 + qrow(:, i_szz)**2 &
         + 2.0_wp * (qrow(:, i_sxy)**2 + qrow(:, i_syz)**2 + qrow(:, i_sxz)**2))) / rho
-    end select
+    end if
   end function solid_field
 
   !> chk_NNNNNN.h5: the conserved state and the clock, enough for a bit-identical restart.

@@ -32,18 +32,28 @@ contains
   subroutine timer_start(t, name)
     type(timers_t), intent(inout) :: t
     character(len=*), intent(in) :: name
-    integer :: k
-    k = phase_index(t, name)
-    t%started(k) = comm_wtime()
+    call timer_click(t, name, .true.)
   end subroutine timer_start
 
   subroutine timer_stop(t, name)
     type(timers_t), intent(inout) :: t
     character(len=*), intent(in) :: name
+    call timer_click(t, name, .false.)
+  end subroutine timer_stop
+
+  !> Start phase `name`'s clock, or stop it and add the time since its start.
+  subroutine timer_click(t, name, start)
+    type(timers_t), intent(inout) :: t
+    character(len=*), intent(in) :: name
+    logical, intent(in) :: start
     integer :: k
     k = phase_index(t, name)
-    t%total(k) = t%total(k) + (comm_wtime() - t%started(k))
-  end subroutine timer_stop
+    if (start) then
+      t%started(k) = comm_wtime()
+    else
+      t%total(k) = t%total(k) + (comm_wtime() - t%started(k))
+    end if
+  end subroutine timer_click
 
   real(wp) function timer_total(t, name)
     type(timers_t), intent(inout) :: t
