@@ -1,8 +1,8 @@
 !> The simulation in typed parts (sim_t): the resolved deck, the block layout, this rank's
 !> blocks, the halo plan and boundary conditions, the clock and output schedule, the phases,
 !> the scheme choices, the level-set bodies, the ghost-fluid and conservation-fix states,
-!> the step's counters, the work space and the memory estimate. sim_setup turns a deck into a ready-to-run
-!> simulation: layout, rigid-obstacle blocks, the memory estimate (a deck that does not fit
+!> the step's counters, the work space and the memory estimate. sim_setup turns a deck into a
+!> ready-to-run simulation: layout, rigid-obstacle blocks, the memory estimate (a deck that does not fit
 !> the node is refused before anything is allocated), METIS partition, allocation and the
 !> initial state painted from the bodies (or read from a checkpoint by m_output).
 module m_simulation
@@ -465,7 +465,8 @@ contains
     need = sim%mem%node_ranks * sum(sim%mem%parts)
     call stop_collective('ERROR ' // trim(base_name(sim%cfg%deck_file)) // ' &domain cells: ' &
       // 'the run needs an estimated ' // mem_text(need) // ' on this node (' &
-      // int_text(sim%mem%node_ranks) // trim(merge(' rank  ', ' ranks ', sim%mem%node_ranks == 1)) &
+      // int_text(sim%mem%node_ranks) &
+      // trim(merge(' rank  ', ' ranks ', sim%mem%node_ranks == 1)) &
       // ' of ' // mem_text(sum(sim%mem%parts)) // ' each) ' &
       // 'but the node has ' // mem_text(sim%mem%node_available) // ' available ' &
       // '(/proc/meminfo MemAvailable): use fewer cells, or more nodes', &
