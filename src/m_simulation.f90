@@ -2,9 +2,10 @@
 !> blocks, the halo plan and boundary conditions, the clock and output schedule, the phases,
 !> the scheme choices, the level-set bodies, the ghost-fluid and conservation-fix states,
 !> the step's counters, the work space and the memory estimate. sim_setup turns a deck into a
-!> ready-to-run simulation: layout, rigid-obstacle blocks, the memory estimate (a deck that does not fit
-!> the node is refused before anything is allocated), METIS partition, allocation and the
-!> initial state painted from the bodies (or read from a checkpoint by m_output).
+!> ready-to-run simulation: layout, rigid-obstacle blocks, the memory estimate (a deck that
+!> does not fit the node is refused before anything is allocated), METIS partition,
+!> allocation and the initial state painted from the bodies (or read from a checkpoint by
+!> m_output).
 module m_simulation
   use m_kinds, only: wp, i8, name_len
   use m_config, only: config_t, material_t, is_set, material_index
