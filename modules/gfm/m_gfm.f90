@@ -21,6 +21,7 @@ module m_gfm
   use m_elastoplastic, only: primitive_row
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, i_epsp
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_material
+  use m_levelset_geometry, only: levelset_gradient_at
   use m_gfm_probe, only: probe_trilinear, probe_least_squares
   use m_gfm_mvi, only: gfm_mvi
   use m_gfm_mri, only: gfm_mri
@@ -242,10 +243,7 @@ contains
           end if
           counts%ghosts = counts%ghosts + 1
           k3 = [i, j, k]
-          grad = 0.0_wp
-          do d = 1, nd
-            grad(d) = central(d)
-          end do
+          grad = levelset_gradient_at(nd, lay%dx, lo, hi, work%bigphi(:, :, :, p), i, j, k)
           if (.not. norm2(grad) > 0.0_wp) grad(1) = 1.0_wp
           grad = grad / norm2(grad)
           ! IP1 at 2 Phi along -n, brought closer where its stencil would leave the padded
@@ -379,18 +377,6 @@ contains
       end if
       counts%mmi = counts%mmi + 1
     end subroutine mmi_ghost
-
-    !> d Phi / dx_d at (i, j, k) by central differences (one-sided at the array's edge)
-    real(wp) function central(dd) result(g)
-      integer, intent(in) :: dd
-      integer :: a(3), b(3)
-      a = [i, j, k]
-      b = a
-      a(dd) = min(a(dd) + 1, hi(dd))
-      b(dd) = max(b(dd) - 1, lo(dd))
-      g = (work%bigphi(a(1), a(2), a(3), p) - work%bigphi(b(1), b(2), b(3), p)) &
-        / (real(a(dd) - b(dd), wp) * lay%dx(dd))
-    end function central
 
   end subroutine fill_phase
 

@@ -13,10 +13,30 @@ module m_levelset_geometry
   implicit none
   private
   public :: levelset_normals, levelset_curvature, levelset_volume, levelset_heaviside
+  public :: levelset_gradient_at
 
   real(wp), parameter :: pi = 3.14159265358979323846_wp
 
 contains
+
+  !> grad phi at cell (i, j, k) of phi (bounds lo..hi) by central differences, one-sided at
+  !> the array's edge; components of unused directions zero. The ghost fill's normals
+  !> (m_gfm) and levelset_normals take it.
+  pure function levelset_gradient_at(ndim, dx, lo, hi, phi, i, j, k) result(grad)
+    integer, intent(in) :: ndim, lo(3), hi(3), i, j, k
+    real(wp), intent(in) :: dx(3)
+    real(wp), intent(in) :: phi(lo(1):, lo(2):, lo(3):)
+    real(wp) :: grad(3)
+    integer :: a(3), b(3), d
+    grad = 0.0_wp
+    do d = 1, ndim
+      a = [i, j, k]
+      b = a
+      a(d) = min(a(d) + 1, hi(d))
+      b(d) = max(b(d) - 1, lo(d))
+      grad(d) = (phi(a(1), a(2), a(3)) - phi(b(1), b(2), b(3))) / (real(a(d) - b(d), wp) * dx(d))
+    end do
+  end function levelset_gradient_at
 
   !> nrm(n1, n2, n3, 3): unit normals at the interior cells, components of unused
   !> directions zero; order 2 (default) or 4.
@@ -41,11 +61,9 @@ contains
               grad(d) = (8.0_wp * (phi(i+e(1), j+e(2), k+e(3)) - phi(i-e(1), j-e(2), k-e(3))) &
                 - (phi(i+2*e(1), j+2*e(2), k+2*e(3)) - phi(i-2*e(1), j-2*e(2), k-2*e(3)))) &
                 / (12.0_wp * dx(d))
-            else
-              grad(d) = (phi(i+e(1), j+e(2), k+e(3)) - phi(i-e(1), j-e(2), k-e(3))) &
-                / (2.0_wp * dx(d))
             end if
           end do
+          if (ord /= 4) grad = levelset_gradient_at(ndim, dx, 1 - g, n + g, phi, i, j, k)
           mag = norm2(grad)
           if (mag > 0.0_wp) then
             nrm(i, j, k, :) = grad / mag
