@@ -125,7 +125,7 @@ contains
           call phase_select(sim, q(1:n, j, k, :), sel, isreal)
           do p = 1, sim%ph%nphase
             if (.not. any(sel == p)) cycle
-            off = (p - 1) * sim%ph%nflow
+            off = sim%ph%lo(p) - 1
             associate (qp => q(1:n, j, k, off + 1:off + sim%ph%nflow))
               call primitive_row(sim%ph%eos(p), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
                 qp(:, i_mz), qp(:, i_en), rho, u, v, w, pr, e)
@@ -429,7 +429,7 @@ contains
           do ph = 1, sim%ph%nphase
             msk = merge(1.0_wp, 0.0_wp, isreal .and. sel == ph)
             if (.not. any(msk > 0.0_wp)) cycle
-            o = (ph - 1) * sim%ph%nflow
+            o = sim%ph%lo(ph) - 1
             associate (qp => q(1:n, j, k, o + 1:o + sim%ph%nflow))
               call primitive_row(sim%ph%eos(ph), n, qp(:, i_rho), qp(:, i_mx), qp(:, i_my), &
                 qp(:, i_mz), qp(:, i_en), rho, u, vv, w, p, e)
@@ -502,7 +502,7 @@ contains
     real(wp) :: h, f
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
     iv = sim%ph%ils + l
-    o = (sim%ls%phase(l) - 1) * sim%ph%nflow
+    o = sim%ph%lo(sim%ls%phase(l)) - 1
     m(1:2) = 0.0_wp
     lo = huge(1.0_wp)
     hi = -huge(1.0_wp)

@@ -185,6 +185,7 @@ contains
   subroutine sim_block_work(sim, b)
     type(sim_t), intent(inout) :: sim
     integer, intent(in) :: b
+    if (sim%ls%n > 0) call gf_fit(sim%gf, sim%blocks(b)%lay, sim%ph%nflow, sim%ph%nphase)
     if (all(shape(sim%wk%trouble) == sim%blocks(b)%n)) return
     call shape_work(sim, sim%blocks(b)%lay)
   end subroutine sim_block_work
@@ -386,7 +387,7 @@ contains
                   end if
                 end if
                 call eos_energy(sim%ph%eos(p), 1, [rho], [pres], e)
-                off = (p - 1) * sim%ph%nflow
+                off = sim%ph%lo(p) - 1
                 blk%q(i, j, k, off + 1:off + sim%ph%nflow) = 0.0_wp
                 blk%q(i, j, k, off + i_rho) = rho
                 blk%q(i, j, k, off + i_mx) = rho * vel(1)

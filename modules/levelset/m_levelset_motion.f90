@@ -78,7 +78,7 @@ contains
         do k = lo(3), hi(3)
           do j = lo(2), hi(2)
             do i = lo(1), hi(1)
-              off = (minloc(bigphi(i, j, k, :), 1) - 1) * ph%nflow
+              off = ph%lo(minloc(bigphi(i, j, k, :), 1)) - 1
               vel(i, j, k, :) = q(i, j, k, off + i_mx:off + i_mz) / q(i, j, k, off + i_rho)
             end do
           end do
