@@ -5,13 +5,14 @@
 !> or FAIL name: F of N checks failed) and ends the run with exit status 0 or 1.
 !> A failed check prints FAIL and its message (with the rank on more than one rank), the
 !> first max_shown of each rank only; verbose tests print the passing ones as ok too.
-!> A NaN never passes.
+!> A NaN never passes. int_text writes an integer for a message.
 module m_test_check
   use m_kinds, only: wp, i8
   use m_comm, only: comm_rank, comm_size, comm_sum, comm_exit, comm_is_root
   implicit none
   private
   public :: check_start, check, check_error, check_close, check_failures, check_done
+  public :: int_text
 
   integer, parameter :: max_shown = 20        !< failures printed per rank
   character(len=:), allocatable :: test_name
@@ -91,6 +92,15 @@ contains
     if (failed == 0 .and. passed > 0) call comm_exit(0)
     call comm_exit(1)
   end subroutine check_done
+
+  !> An integer as text, for messages.
+  pure function int_text(i) result(s)
+    integer, intent(in) :: i
+    character(len=:), allocatable :: s
+    character(len=16) :: buf
+    write(buf, '(i0)') i
+    s = trim(buf)
+  end function int_text
 
   subroutine record(ok, text)
     logical, intent(in) :: ok

@@ -11,7 +11,7 @@
 program test_hdf5
   use m_kinds, only: wp, i8
   use m_comm, only: comm_init, comm_rank, comm_size, comm_is_root, comm_barrier
-  use m_test_check, only: check_start, check, check_done
+  use m_test_check, only: check_start, check, check_done, int_text
   use m_layout, only: layout_t, layout_init, block_offset, block_extent
   use m_hdf5_io, only: h5_file_t, h5_init, h5_finalize, h5_create, h5_open_read, h5_close, &
     h5_write_attr, h5_read_attr, h5_write_field, h5_read_field, h5_write_text, &
@@ -308,13 +308,5 @@ contains
     open(newunit=u, file=path, status='old', iostat=ios)
     if (ios == 0) close(u, status='delete')
   end subroutine delete_file
-
-  pure function int_text(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write(buf, '(i0)') i
-    s = trim(buf)
-  end function int_text
 
 end program test_hdf5
