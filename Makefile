@@ -61,7 +61,7 @@ SRC := $(subst modules/parallel/m_comm.f90,modules/parallel/m_comm_mpi.f90 \
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset \
-  test_gfm
+  test_gfm test_euler test_boundary test_partition
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
 .PHONY: all deps check check-caf check-batch run verify bench clean unit accuracy accuracy-taylor stability
