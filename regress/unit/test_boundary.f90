@@ -10,9 +10,9 @@
 !> edges and corners (conditions of two sides) as the later direction makes of the earlier
 !> one's halo; periodic sides and sides towards a neighbour block are left to m_halo
 !> (untouched, and after halo_exchange they hold the periodic image); a skipped block takes
-!> only the level sets (variables keep..nvar), none without keep; boundary_walls names the reflecting sides and their wall
-!> velocities; bc_from_name maps the deck's names. Gas (5 variables), two solid phases (13
-!> each) with a level set, 2D and 3D, one block and several.
+!> only the level sets (variables keep..nvar), none without keep; boundary_walls names the
+!> reflecting sides and their wall velocities; bc_from_name maps the deck's names. Gas (5
+!> variables), two solid phases (13 each) with a level set, 2D and 3D, one block and several.
 program test_boundary
   use m_kinds, only: wp
   use m_layout, only: layout_t, layout_init, block_neighbor, wall_neighbor
