@@ -45,7 +45,8 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_signals core/m_conf
   gfm/m_gfm_probe gfm/m_gfm_stress gfm/m_gfm_mvi gfm/m_gfm_mri gfm/m_gfm_mmi gfm/m_gfm gfm/m_gfm_conserve \
   gfm/m_gfm_stage strength/m_material_library numerics/m_numerics_defaults io/m_deck_text \
   io/m_deck_parse io/m_deck_values \
-  io/m_deck_schema io/m_deck_check io/m_deck_write io/m_deck io/m_history io/m_hdf5_io io/m_xdmf io/m_json
+  io/m_deck_schema io/m_deck_check io/m_deck_write io/m_deck io/m_history \
+  io/m_hdf5_file io/m_hdf5_attr io/m_hdf5_io io/m_xdmf io/m_json
 DRIVER := m_simulation m_output m_run_report m_run_log m_step m_timeloop
 SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))
@@ -61,7 +62,8 @@ SRC := $(subst modules/parallel/m_comm.f90,modules/parallel/m_comm_mpi.f90 \
   modules/parallel/m_comm.f90,$(SRC))
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
-UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset test_gfm
+UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset \
+  test_gfm test_euler test_boundary test_partition
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
 .PHONY: all deps check check-caf check-batch run verify bench clean unit accuracy accuracy-taylor stability
@@ -73,8 +75,12 @@ bin/sabre: $(REL_OBJ) build/rel/src/sabre.o | bin
 bin/sabre-check: $(CHK_OBJ) build/chk/src/sabre.o | bin
 	$(FC) $(CHK_FLAGS) -o $@ $^ $(LIBS)
 
-bin/test_%: regress/unit/test_%.f90 $(CHK_OBJ) | bin
-	$(FC) $(CHK_FLAGS) -Jbuild/chk/mod -o $@ $< $(CHK_OBJ) $(LIBS)
+# the unit tests' shared assertions (regress/unit/m_test_check.f90), compiled once per build
+TEST_CHECK := build/chk/regress/unit/m_test_check.o
+$(TEST_CHECK): $(CHK_OBJ)
+
+bin/test_%: regress/unit/test_%.f90 $(CHK_OBJ) $(TEST_CHECK) | bin
+	$(FC) $(CHK_FLAGS) -Jbuild/chk/mod -o $@ $< $(CHK_OBJ) $(TEST_CHECK) $(LIBS)
 
 # serial module build: each object depends on every module before it in the list
 build/rel/%.o: %.f90
@@ -116,8 +122,11 @@ bin/sabre-caf: $(CAF_REL_OBJ) build/rel-caf/src/sabre.o | bin
 bin/sabre-caf-check: $(CAF_CHK_OBJ) build/chk-caf/src/sabre.o | bin
 	$(CAF_FC) $(CHK_FLAGS) -o $@ $^ $(LIBS)
 
-bin/test_%-caf: regress/unit/test_%.f90 $(CAF_CHK_OBJ) | bin
-	$(CAF_FC) $(CHK_FLAGS) -Jbuild/chk-caf/mod -o $@ $< $(CAF_CHK_OBJ) $(LIBS)
+CAF_TEST_CHECK := build/chk-caf/regress/unit/m_test_check.o
+$(CAF_TEST_CHECK): $(CAF_CHK_OBJ)
+
+bin/test_%-caf: regress/unit/test_%.f90 $(CAF_CHK_OBJ) $(CAF_TEST_CHECK) | bin
+	$(CAF_FC) $(CHK_FLAGS) -Jbuild/chk-caf/mod -o $@ $< $(CAF_CHK_OBJ) $(CAF_TEST_CHECK) $(LIBS)
 
 build/rel-caf/%.o: %.f90
 	@mkdir -p $(dir $@) build/rel-caf/mod

@@ -9,7 +9,8 @@ program test_flux
   use m_kinds, only: wp
   use m_state, only: n_solid, i_epsp, i_wcold
   use m_flux, only: flux_llf_solid
-  use m_comm, only: comm_init, comm_exit
+  use m_comm, only: comm_init
+  use m_test_check, only: check_start, check, check_done
   implicit none
   integer, parameter :: nf = 200, nv = n_solid
   real(wp), parameter :: tol = 1.0e-12_wp
@@ -18,10 +19,10 @@ program test_flux
   real(wp) :: wl(nf, nv), wr(nf, nv), el(nf), er(nf), cl(nf), cr(nf)
   real(wp) :: fu(nf, nv), fl(nf, nv), fm(nf, nv), phi_up
   logical :: mixed(nf)
-  integer :: nfail, i, m, side(nf)
+  integer :: i, m, side(nf)
   logical, parameter :: llf(nf) = .false., upwind(nf) = .true.
   call comm_init()
-  nfail = 0
+  call check_start('test_flux')
   call random_states(wl, wr, el, er, cl, cr)
 
   ! uniform scalars: both fluxes give phi F_rho
@@ -29,9 +30,9 @@ program test_flux
   call flux_llf_solid(nf, nv, llf, wl, wr, el, er, cl, cr, fl)
   call flux_llf_solid(nf, nv, upwind, wl, wr, el, er, cl, cr, fu)
   do m = i_epsp, i_wcold
-    call expect('uniform phi, llf', maxval(abs(fl(:, m) - fl(:, 1) * wl(:, m)) &
+    call check('uniform phi, llf', maxval(abs(fl(:, m) - fl(:, 1) * wl(:, m)) &
       / (mass_scale * wl(:, m))) < tol)
-    call expect('uniform phi, upwind', maxval(abs(fu(:, m) - fu(:, 1) * wl(:, m)) &
+    call check('uniform phi, upwind', maxval(abs(fu(:, m) - fu(:, 1) * wl(:, m)) &
       / (mass_scale * wl(:, m))) < tol)
   end do
 
@@ -39,18 +40,18 @@ program test_flux
   call random_states(wl, wr, el, er, cl, cr)
   call flux_llf_solid(nf, nv, llf, wl, wr, el, er, cl, cr, fl)
   call flux_llf_solid(nf, nv, upwind, wl, wr, el, er, cl, cr, fu)
-  call expect('mass, momentum, energy, stress unchanged', &
+  call check('mass, momentum, energy, stress unchanged', &
     maxval(abs(fu(:, 1:i_epsp - 1) - fl(:, 1:i_epsp - 1))) <= 0.0_wp)
   mixed = [(mod(i, 2) == 0, i = 1, nf)]
   call flux_llf_solid(nf, nv, mixed, wl, wr, el, er, cl, cr, fm)
   do m = 1, nv
-    call expect('per-face choice', maxval(abs(fm(:, m) - merge(fu(:, m), fl(:, m), mixed))) &
+    call check('per-face choice', maxval(abs(fm(:, m) - merge(fu(:, m), fl(:, m), mixed))) &
       <= 0.0_wp)
   end do
   do i = 1, nf
     do m = i_epsp, i_wcold
       phi_up = merge(wl(i, m), wr(i, m), fu(i, 1) >= 0.0_wp)
-      call expect('upwind value', abs(fu(i, m) - fu(i, 1) * phi_up) &
+      call check('upwind value', abs(fu(i, m) - fu(i, 1) * phi_up) &
         <= tol * abs(fu(i, 1) * phi_up))
     end do
   end do
@@ -63,19 +64,19 @@ program test_flux
   call flux_llf_solid(nf, nv, llf, wl, wr, el, er, cl, cr, fl)
   call flux_llf_solid(nf, nv, upwind, wl, wr, el, er, cl, cr, fu)
   call flux_llf_solid(nf, nv, mixed, wl, wr, el, er, cl, cr, fm, side)
-  call expect('surface: mass, momentum, energy unchanged', &
+  call check('surface: mass, momentum, energy unchanged', &
     maxval(abs(fm(:, 1:5) - fl(:, 1:5))) <= 0.0_wp)
   do i = 1, nf
     do m = 6, nv
       select case (side(i))
       case (1)
-        call expect('surface: left real', abs(fm(i, m) - fl(i, 1) * wl(i, m)) &
+        call check('surface: left real', abs(fm(i, m) - fl(i, 1) * wl(i, m)) &
           <= tol * abs(fl(i, 1) * wl(i, m)))
       case (2)
-        call expect('surface: right real', abs(fm(i, m) - fl(i, 1) * wr(i, m)) &
+        call check('surface: right real', abs(fm(i, m) - fl(i, 1) * wr(i, m)) &
           <= tol * abs(fl(i, 1) * wr(i, m)))
       case default
-        call expect('surface: none', abs(fm(i, m) - merge(fu(i, m), fl(i, m), &
+        call check('surface: none', abs(fm(i, m) - merge(fu(i, m), fl(i, m), &
           mixed(i) .and. m >= i_epsp)) <= 0.0_wp)
       end select
     end do
@@ -89,26 +90,13 @@ program test_flux
   cl = cr
   el = er
   call flux_llf_solid(nf, nv, upwind, wl, wr, el, er, cl, cr, fu)
-  call expect('wall: no scalar flux', all(abs(fu(:, i_epsp:i_wcold)) <= tol))
+  call check('wall: no scalar flux', all(abs(fu(:, i_epsp:i_wcold)) <= tol))
 
   call check_bounds()
 
-  if (nfail == 0) then
-    write(6, '(a)') 'PASS test_flux'
-    call comm_exit(0)
-  end if
-  write(6, '(a,i0,a)') 'FAIL test_flux (', nfail, ' checks)'
-  call comm_exit(1)
+  call check_done()
 
 contains
-
-  subroutine expect(what, ok)
-    character(len=*), intent(in) :: what
-    logical, intent(in) :: ok
-    if (ok) return
-    nfail = nfail + 1
-    write(6, '(a,a)') 'FAIL: ', what
-  end subroutine expect
 
   !> Copper-like states: rho 8000-10000, |u| < 300 m/s, p -1..5 GPa, S within 0.3 GPa,
   !> eps_p and w_c in [0, 2) and [0, 1e5); c a longitudinal speed near 4.7 km/s; e from p.
@@ -166,9 +154,9 @@ contains
       phi1 = (w(j, 1) * w(j, i_epsp) - lam * (f(j + 1, i_epsp) - f(j, i_epsp))) / rho1
       lo = minval(w(j-1:j+1, i_epsp))
       hi = maxval(w(j-1:j+1, i_epsp))
-      call expect('upwind: phi within its neighbours', phi1 >= lo - tol .and. phi1 <= hi + tol)
+      call check('upwind: phi within its neighbours', phi1 >= lo - tol .and. phi1 <= hi + tol)
       phi1 = (w(j, 1) * w(j, i_wcold) - lam * (f(j + 1, i_wcold) - f(j, i_wcold))) / rho1
-      call expect('upwind: uniform w_c stays uniform', abs(phi1 - 1.0_wp) <= tol)
+      call check('upwind: uniform w_c stays uniform', abs(phi1 - 1.0_wp) <= tol)
     end do
   end subroutine check_bounds
 

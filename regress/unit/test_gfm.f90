@@ -13,7 +13,8 @@
 !> what the coefficients say (1e-12), with velocity and specific stress unchanged.
 program test_gfm
   use m_kinds, only: wp
-  use m_comm, only: comm_init, comm_exit
+  use m_comm, only: comm_init
+  use m_test_check, only: check_start, check, check_done
   use m_gfm_probe, only: probe_trilinear, probe_least_squares
   use m_gfm_mvi, only: gfm_mvi
   use m_gfm_mri, only: gfm_mri
@@ -21,33 +22,16 @@ program test_gfm
   use m_layout, only: layout_t, layout_init
   use m_state, only: n_solid, i_rho, i_mx, i_my, i_en, i_sxx
   implicit none
-  integer :: nfail
   call comm_init()
-  nfail = 0
+  call check_start('test_gfm', show_passes=.true.)
   call check_probes(2)
   call check_probes(3)
   call check_classes(2)
   call check_classes(3)
   call check_conserve()
-  if (nfail == 0) then
-    write(6, '(a)') 'PASS test_gfm'
-    call comm_exit(0)
-  end if
-  write(6, '(a,i0,a)') 'FAIL test_gfm: ', nfail, ' checks failed'
-  call comm_exit(1)
+  call check_done()
 
 contains
-
-  subroutine require(what, ok)
-    character(len=*), intent(in) :: what
-    logical, intent(in) :: ok
-    if (ok) then
-      write(6, '(a)') 'ok    ' // what
-    else
-      write(6, '(a)') 'FAIL  ' // what
-      nfail = nfail + 1
-    end if
-  end subroutine require
 
   subroutine check_probes(nd)
     integer, intent(in) :: nd
@@ -79,22 +63,22 @@ contains
     isreal = .true.
     call probe_trilinear(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
       isreal(lo(1):, lo(2):, lo(3):), s, val, complete)
-    call require(trim(tag) // ' trilinear exact for a linear field, full stencil', &
+    call check(trim(tag) // ' trilinear exact for a linear field, full stencil', &
       complete .and. maxval(abs(val - exact)) < 1.0e-12_wp)
     call probe_least_squares(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
       isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
-    call require(trim(tag) // ' least squares exact for a linear field, full stencil', &
+    call check(trim(tag) // ' least squares exact for a linear field, full stencil', &
       npts == 3**nd .and. maxval(abs(val - exact)) < 1.0e-12_wp)
     ! only the cells below and left of the point are real: a corner
     isreal = .false.
     isreal(:2, :3, :) = .true.
     call probe_trilinear(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
       isreal(lo(1):, lo(2):, lo(3):), s, val, complete)
-    call require(trim(tag) // ' trilinear reports an incomplete stencil at a corner', &
+    call check(trim(tag) // ' trilinear reports an incomplete stencil at a corner', &
       .not. complete)
     call probe_least_squares(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
       isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
-    call require(trim(tag) // ' least squares exact at a corner (fewer real cells)', &
+    call check(trim(tag) // ' least squares exact at a corner (fewer real cells)', &
       npts > 0 .and. npts < 5**nd .and. maxval(abs(val - exact)) < 1.0e-12_wp)
     ! real cells on one line of i only (a surface along a grid line): the 3-stencil is
     ! degenerate, the 5-stencil is not
@@ -104,12 +88,12 @@ contains
     exact = [3.0_wp + dot_product(c, s), -1.0_wp + 0.5_wp * dot_product(c, s)]
     call probe_least_squares(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
       isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
-    call require(trim(tag) // ' least squares exact with real cells on one grid line', &
+    call check(trim(tag) // ' least squares exact with real cells on one grid line', &
       npts > 0 .and. maxval(abs(val - exact)) < 1.0e-11_wp)
     isreal = .false.
     call probe_least_squares(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
       isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
-    call require(trim(tag) // ' least squares reports no real cell', npts == 0)
+    call check(trim(tag) // ' least squares reports no real cell', npts == 0)
   end subroutine check_probes
 
   subroutine check_classes(nd)
@@ -128,26 +112,26 @@ contains
     sig_i = stress(wi)
     sig_g = stress(wg)
     t = matmul(0.5_wp * (sig_i + sig_g), nrm)
-    call require(trim(tag) // ' MVI: traction of the mean state on the surface is zero', &
+    call check(trim(tag) // ' MVI: traction of the mean state on the surface is zero', &
       norm2(t) < 1.0e-12_wp * scale)
-    call require(trim(tag) // ' MVI: J1 of the ghost deviator is zero', &
+    call check(trim(tag) // ' MVI: J1 of the ghost deviator is zero', &
       abs(wg(6) + wg(7) + wg(8)) < 1.0e-12_wp * scale)
-    call require(trim(tag) // ' MVI: density, pressure, velocity, eps_p extended', &
+    call check(trim(tag) // ' MVI: density, pressure, velocity, eps_p extended', &
       maxval(abs(wg(1:5) - wi(1:5))) <= 0.0_wp .and. maxval(abs(wg(12:13) - wi(12:13))) <= 0.0_wp)
     vb = [3.0_wp, -2.0_wp, 0.0_wp]
     call gfm_mri(nd, nrm, vb, wi, wg)
     un = dot_product(0.5_wp * (wi(2:4) + wg(2:4)), nrm)
-    call require(trim(tag) // ' MRI: mean normal velocity is the wall''s', &
+    call check(trim(tag) // ' MRI: mean normal velocity is the wall''s', &
       abs(un - dot_product(vb, nrm)) < 1.0e-12_wp * 100.0_wp)
-    call require(trim(tag) // ' MRI: tangential velocity extended', norm2((wg(2:4) - wi(2:4)) &
+    call check(trim(tag) // ' MRI: tangential velocity extended', norm2((wg(2:4) - wi(2:4)) &
       - dot_product(wg(2:4) - wi(2:4), nrm) * nrm) < 1.0e-12_wp * 100.0_wp)
     sig_i = stress(wi)
     sig_g = stress(wg)
     t = matmul(0.5_wp * (sig_i + sig_g), nrm)
-    call require(trim(tag) // ' MRI: normal stress continuous, no shear traction', &
+    call check(trim(tag) // ' MRI: normal stress continuous, no shear traction', &
       abs(dot_product(t, nrm) - dot_product(matmul(sig_i, nrm), nrm)) < 1.0e-12_wp * scale &
       .and. norm2(t - dot_product(t, nrm) * nrm) < 1.0e-12_wp * scale)
-    call require(trim(tag) // ' MRI: J1 of the ghost deviator is zero', &
+    call check(trim(tag) // ' MRI: J1 of the ghost deviator is zero', &
       abs(wg(6) + wg(7) + wg(8) - sum(wi(6:8))) < 1.0e-12_wp * scale)
   end subroutine check_classes
 
@@ -178,9 +162,9 @@ contains
       end do
     end do
     call content_block(lay, [0, 0, 0], q, phi, h, 2.0_wp * h, c0)
-    call require('fix: mass of a uniform state = rho x sum of volume fractions', &
+    call check('fix: mass of a uniform state = rho x sum of volume fractions', &
       abs(c0(1) - 2.0_wp * frac) < 1.0e-12_wp * c0(1))
-    call require('fix: internal energy share = rho e of the surface mass', &
+    call check('fix: internal energy share = rho e of the surface mass', &
       abs(c0(5) - 7.0_wp * c0(3)) < 1.0e-12_wp * c0(5))
     fm = 0.97_wp
     ah = -0.02_wp
@@ -188,16 +172,16 @@ contains
     heat0 = c0(5)
     call fix_block(lay, q, phi, 2.0_wp * h, fm, ah, am)
     call content_block(lay, [0, 0, 0], q, phi, h, 2.0_wp * h, c1)
-    call require('fix: mass moves by (fm - 1) x surface mass', &
+    call check('fix: mass moves by (fm - 1) x surface mass', &
       abs(c1(1) - c0(1) - (fm - 1.0_wp) * c0(3)) < 1.0e-12_wp * c0(1))
-    call require('fix: energy moves by the scaling and a_heat x surface heat', &
+    call check('fix: energy moves by the scaling and a_heat x surface heat', &
       abs(c1(2) - c0(2) - (fm - 1.0_wp) * c0(4) - ah * fm * heat0) < 1.0e-12_wp * c0(2))
-    call require('fix: velocity and specific stress unchanged', &
+    call check('fix: velocity and specific stress unchanged', &
       all(abs(q(1:8, 1:8, 1, i_mx) / q(1:8, 1:8, 1, i_rho) - 3.0_wp) < 1.0e-13_wp) .and. &
       all(abs(q(1:8, 1:8, 1, i_sxx) / q(1:8, 1:8, 1, i_rho) - 0.25_wp) < 1.0e-13_wp))
     call fix_block(lay, q, phi, 2.0_wp * h, 1.0_wp, 0.0_wp, 0.5_wp)
     call content_block(lay, [0, 0, 0], q, phi, h, 2.0_wp * h, c0)
-    call require('fix: a_mass adds a_mass x surface mass to the energy', &
+    call check('fix: a_mass adds a_mass x surface mass to the energy', &
       abs(c0(2) - c1(2) - 0.5_wp * c1(3)) < 1.0e-12_wp * c0(2))
   end subroutine check_conserve
 

@@ -13,12 +13,12 @@ program test_halo
   use m_blocks, only: block_t, blocks_allocate
   use m_halo, only: halo_plan_t, halo_plan_build, halo_exchange, halo_refresh
   use m_partition, only: partition_blocks
-  use m_comm, only: comm_init, comm_exit, comm_rank, comm_size, comm_sum
+  use m_comm, only: comm_init, comm_rank, comm_sum
   use m_kinds, only: i8
+  use m_test_check, only: check_start, check, check_done
   implicit none
-  integer :: nbad
   call comm_init()
-  nbad = 0
+  call check_start('test_halo')
   call run_case(2, [32, 24, 1], [8, 8, 1], [.true., .false., .false.], 0)
   call run_case(2, [32, 32, 1], [8, 8, 1], [.false., .true., .false.], 6)
   call run_case(3, [16, 16, 12], [4, 8, 4], [.true., .true., .true.], 0)
@@ -27,12 +27,7 @@ program test_halo
   ! than the halo joined to the last block (10, 5 cells), with periodic wrap across them
   call run_case(2, [30, 26, 1], [8, 8, 1], [.true., .false., .false.], 0)
   call run_case(3, [18, 13, 12], [8, 4, 4], [.true., .true., .false.], 3)
-  if (comm_sum(int(nbad, i8)) == 0) then
-    if (comm_rank() == 0) write(6, '(a,i0,a)') 'PASS test_halo (', comm_size(), ' ranks)'
-    call comm_exit(0)
-  end if
-  if (comm_rank() == 0) write(6, '(a)') 'FAIL test_halo'
-  call comm_exit(1)
+  call check_done()
 
 contains
 
@@ -101,9 +96,12 @@ contains
     type(block_t), intent(in) :: blocks(:)
     logical, intent(in) :: skip(:)
     real(wp), intent(in) :: shift
-    integer :: b, i, j, k, m, g(3), dir(3), nbr, d, checked
+    integer :: b, i, j, k, m, g(3), dir(3), nbr, d, checked, nbad
     real(wp) :: expect
+    character(len=120) :: first
     checked = 0
+    nbad = 0
+    first = ''
     do b = 1, size(blocks)
       do k = 1 - lay%ng(3), blocks(b)%n(3) + lay%ng(3)
         do j = 1 - lay%ng(2), blocks(b)%n(2) + lay%ng(2)
@@ -126,9 +124,9 @@ contains
               expect = code(g, m) + shift
               if (skip(b) .and. m < 3 .and. lay%owner(nbr) == comm_rank()) expect = code(g, m)
               if (abs(blocks(b)%q(i, j, k, m) - expect) > 0.0_wp) then
-                if (nbad < 5) write(6, '(a,i0,a,3i4,a,i0,a,2es14.6)') 'rank ', &
-                  comm_rank(), ' halo cell ', i, j, k, ' of block ', blocks(b)%id, &
-                  ': got/expected ', blocks(b)%q(i, j, k, m), expect
+                if (nbad == 0) write(first, '(a,3i4,a,i0,a,i0,a,2es14.6)') ', first: cell ', &
+                  i, j, k, ' of block ', blocks(b)%id, ' variable ', m, ': got/expected ', &
+                  blocks(b)%q(i, j, k, m), expect
                 nbad = nbad + 1
               end if
             end do
@@ -136,7 +134,17 @@ contains
         end do
       end do
     end do
-    if (comm_sum(int(checked, i8)) == 0) nbad = nbad + 1
+    call check(trim(lay_text(lay)) // ': every halo cell holds its source''s value' // &
+      trim(first), nbad == 0)
+    call check(trim(lay_text(lay)) // ': some halo cells checked', comm_sum(int(checked, i8)) > 0)
   end subroutine check_halos
+
+  !> The case in words for the messages: dimensions, cells and blocks.
+  function lay_text(lay) result(t)
+    type(layout_t), intent(in) :: lay
+    character(len=64) :: t
+    write(t, '(i0,a,3(1x,i0),a,3(1x,i0))') lay%ndim, 'D, cells', lay%cells, ', blocks', &
+      lay%bsize
+  end function lay_text
 
 end program test_halo

@@ -10,8 +10,8 @@
 !> (test_hdf5_{1d,2d,3d}.h5 and .xmf in the working folder) are kept for inspection.
 program test_hdf5
   use m_kinds, only: wp, i8
-  use m_comm, only: comm_init, comm_rank, comm_size, comm_is_root, comm_max, comm_exit, &
-    comm_barrier
+  use m_comm, only: comm_init, comm_rank, comm_size, comm_is_root, comm_barrier
+  use m_test_check, only: check_start, check, check_done, int_text
   use m_layout, only: layout_t, layout_init, block_offset, block_extent
   use m_hdf5_io, only: h5_file_t, h5_init, h5_finalize, h5_create, h5_open_read, h5_close, &
     h5_write_attr, h5_read_attr, h5_write_field, h5_read_field, h5_write_text, &
@@ -22,7 +22,7 @@ program test_hdf5
   integer, parameter :: n_fields = 3
   character(len=*), parameter :: field_path(n_fields) = &
     [character(len=16) :: '/fields/rho', '/fields/p', '/state/deep/q1']
-  integer :: n_fail, i
+  integer :: i
   logical :: keep
   character(len=64) :: arg
 
@@ -34,7 +34,7 @@ program test_hdf5
     if (trim(arg) == '--keep') keep = .true.
   end do
 
-  n_fail = 0
+  call check_start('test_hdf5')
   call run_case('1d', 1, [64, 1, 1], [8, 1, 1], [-1.0_wp, 0.0_wp, 0.0_wp], &
     [2.0_wp, 1.0_wp, 1.0_wp], [3], .false.)
   call run_case('2d', 2, [24, 16, 1], [4, 4, 1], [-1.0_wp, 0.25_wp, 0.0_wp], &
@@ -46,15 +46,7 @@ program test_hdf5
     [2.0_wp, 1.5_wp, 1.0_wp], [6], .false.)
 
   call h5_finalize()
-  n_fail = comm_max(n_fail)
-  if (n_fail == 0) then
-    if (comm_is_root()) write(6, '(a)') 'PASS test_hdf5'
-    call comm_exit(0)
-  else
-    if (comm_is_root()) write(6, '(a, i0, a)') 'FAIL test_hdf5: ', n_fail, &
-      ' check(s) failed on the worst rank'
-    call comm_exit(1)
-  end if
+  call check_done()
 
 contains
 
@@ -69,13 +61,6 @@ contains
     real(wp), intent(in) :: a, b
     same_bits = transfer(a, 0_i8) == transfer(b, 0_i8)
   end function same_bits
-
-  subroutine fail(what)
-    character(len=*), intent(in) :: what
-    n_fail = n_fail + 1
-    if (n_fail <= 20) write(0, '(a, i0, a)') 'FAIL test_hdf5 [rank ', comm_rank(), ']: ' // &
-      trim(what)
-  end subroutine fail
 
   !> The ids (ascending) of the blocks whose owner is this rank.
   subroutine my_blocks(lay, ids)
@@ -172,43 +157,44 @@ contains
     end do
 
     call h5_read_attr(f, 'time', time)
-    if (.not. same_bits(time, 1.0_wp / 3.0_wp)) call fail(tag // ': attribute time')
+    call check(tag // ': attribute time', same_bits(time, 1.0_wp / 3.0_wp))
     call h5_read_attr(f, 'step', step)
-    if (step /= 17) call fail(tag // ': attribute step ' // int_text(step))
+    call check(tag // ': attribute step ' // int_text(step), step == 17)
     coeffs = 0.0_wp
     call h5_read_attr(f, 'coeffs', coeffs)
-    if (.not. all(same_bits(coeffs, [1.0_wp / 7.0_wp, -0.0_wp, huge(1.0_wp), &
-      tiny(1.0_wp)]))) call fail(tag // ': attribute coeffs')
+    call check(tag // ': attribute coeffs', all(same_bits(coeffs, [1.0_wp / 7.0_wp, -0.0_wp, &
+      huge(1.0_wp), tiny(1.0_wp)])))
     call h5_read_attr(f, 'title', title)
-    if (title /= 'SABRE unit test ' // tag) call fail(tag // ': attribute title "' // &
-      trim(title) // '"')
+    call check(tag // ': attribute title "' // trim(title) // '"', &
+      title == 'SABRE unit test ' // tag)
     empty = 'x'
     call h5_read_attr(f, 'empty', empty)
-    if (empty /= '') call fail(tag // ': attribute empty "' // trim(empty) // '"')
+    call check(tag // ': attribute empty "' // trim(empty) // '"', empty == '')
     call h5_read_attr(f, 'cells', cells_read)
-    if (any(cells_read /= lay%cells)) call fail(tag // ': attribute cells')
+    call check(tag // ': attribute cells', all(cells_read == lay%cells))
     call h5_read_attr(f, 'ndim', ndim_read)
-    if (ndim_read /= ndim) call fail(tag // ': attribute ndim')
+    call check(tag // ': attribute ndim', ndim_read == ndim)
     call h5_read_attr(f, 'lo', lohi)
-    if (.not. all(same_bits(lohi, lay%lo))) call fail(tag // ': attribute lo')
+    call check(tag // ': attribute lo', all(same_bits(lohi, lay%lo)))
     call h5_read_attr(f, 'hi', lohi)
-    if (.not. all(same_bits(lohi, lay%hi))) call fail(tag // ': attribute hi')
+    call check(tag // ': attribute hi', all(same_bits(lohi, lay%hi)))
 
     call h5_read_text(f, '/input/deck', text)
     if (comm_is_root()) then
-      if (text /= deck .or. len(text) /= len(deck)) call fail(tag // ': text /input/deck')
+      call check(tag // ': text /input/deck', text == deck .and. &
+        len(text) == len(deck))
     else
-      if (len(text) < 30000) call fail(tag // ': text /input/deck is not rank 0''s')
+      call check(tag // ': text /input/deck is not rank 0''s', len(text) >= 30000)
     end if
     call h5_read_text(f, '/input/blank', text)
-    if (len(text) /= 0) call fail(tag // ': text /input/blank not empty')
+    call check(tag // ': text /input/blank not empty', len(text) == 0)
 
-    if (.not. h5_exists(f, '/fields/rho')) call fail(tag // ': /fields/rho not found')
-    if (.not. h5_exists(f, 'state/deep')) call fail(tag // ': state/deep not found')
-    if (h5_exists(f, '/fields/none')) call fail(tag // ': /fields/none found')
-    if (h5_exists(f, '/nogroup/x/y')) call fail(tag // ': /nogroup/x/y found')
-    if (.not. h5_has_attr(f, 'coeffs')) call fail(tag // ': attribute coeffs not found')
-    if (h5_has_attr(f, 'fix_crossing')) call fail(tag // ': attribute fix_crossing found')
+    call check(tag // ': /fields/rho not found', h5_exists(f, '/fields/rho'))
+    call check(tag // ': state/deep not found', h5_exists(f, 'state/deep'))
+    call check(tag // ': /fields/none found', .not. h5_exists(f, '/fields/none'))
+    call check(tag // ': /nogroup/x/y found', .not. h5_exists(f, '/nogroup/x/y'))
+    call check(tag // ': attribute coeffs not found', h5_has_attr(f, 'coeffs'))
+    call check(tag // ': attribute fix_crossing found', .not. h5_has_attr(f, 'fix_crossing'))
     call h5_close(f)
 
     call comm_barrier()
@@ -242,9 +228,11 @@ contains
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: ids(:), m
     real(wp), intent(in) :: data(:, :, :, :)
-    integer :: k, i, j, l, off(3), n(3)
+    integer :: k, i, j, l, off(3), n(3), nbad
     real(wp) :: want
     character(len=160) :: msg
+    nbad = 0
+    msg = ''
     do k = 1, size(ids)
       off = block_offset(lay, ids(k))
       n = block_extent(lay, ids(k))
@@ -253,16 +241,17 @@ contains
           do i = 1, n(1)
             want = 0.0_wp
             if (lay%active(ids(k))) want = known_value(off(1) + i, off(2) + j, off(3) + l, m)
-            if (.not. same_bits(data(i, j, l, k), want)) then
-              write(msg, '(a, i0, a, 3(i0, 1x), a, es24.16, a, es24.16)') &
-                ': field ' // trim(field_path(m)) // ' block ', ids(k), ' cell ', &
-                off + [i, j, l], 'read ', data(i, j, l, k), ' want ', want
-              call fail(tag // trim(msg))
-            end if
+            if (same_bits(data(i, j, l, k), want)) cycle
+            nbad = nbad + 1
+            if (nbad == 1) write(msg, '(a, i0, a, 3(i0, 1x), a, es24.16, a, es24.16)') &
+              ', first: block ', ids(k), ' cell ', off + [i, j, l], 'read ', &
+              data(i, j, l, k), ' want ', want
           end do
         end do
       end do
     end do
+    call check(tag // ': field ' // trim(field_path(m)) // ' read back bit for bit (' // &
+      int_text(nbad) // ' cells differ' // trim(msg) // ')', nbad == 0)
   end subroutine check_known
 
   !> The mesh of the .xmf: nodes, origin and spacing in z, y, x order, a 2D (1D) layout flat
@@ -293,10 +282,8 @@ contains
     end select
     open(newunit=u, file='test_hdf5_' // tag // '.xmf', status='old', action='read', &
       iostat=ios)
-    if (ios /= 0) then
-      call fail(tag // ': cannot read test_hdf5_' // tag // '.xmf')
-      return
-    end if
+    call check(tag // ': read test_hdf5_' // tag // '.xmf', ios == 0)
+    if (ios /= 0) return
     found = 0
     prev = ''
     do
@@ -311,8 +298,8 @@ contains
       prev = line
     end do
     close(u)
-    if (found /= 3) call fail(tag // ': .xmf mesh is not nodes "' // nodes // &
-      '", origin "' // origin // '", spacing "' // spacing // '"')
+    call check(tag // ': .xmf mesh is nodes "' // nodes // '", origin "' // origin // &
+      '", spacing "' // spacing // '"', found == 3)
   end subroutine check_xdmf
 
   subroutine delete_file(path)
@@ -321,13 +308,5 @@ contains
     open(newunit=u, file=path, status='old', iostat=ios)
     if (ios == 0) close(u, status='delete')
   end subroutine delete_file
-
-  pure function int_text(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write(buf, '(i0)') i
-    s = trim(buf)
-  end function int_text
 
 end program test_hdf5

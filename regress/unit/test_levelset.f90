@@ -11,38 +11,24 @@
 !> levelset_volume.
 program test_levelset
   use m_kinds, only: wp
-  use m_comm, only: comm_init, comm_exit
+  use m_comm, only: comm_init
+  use m_test_check, only: check_start, check, check_done
   use m_levelset_advect, only: levelset_advect_rhs, levelset_rk_stage
   use m_levelset_reinit, only: levelset_reinit, levelset_halo_zero_gradient
   use m_levelset_geometry, only: levelset_normals, levelset_curvature, levelset_volume
   implicit none
   real(wp), parameter :: pi = 3.14159265358979323846_wp
   integer, parameter :: ng = 4
-  integer :: nfail
   call comm_init()
-  nfail = 0
+  call check_start('test_levelset')
   call check_translation()
   call check_zalesak()
   call check_reinit(64, .false.)
   call check_reinit(128, .true.)
   call check_normals()
-  if (nfail == 0) then
-    write(6, '(a)') 'PASS test_levelset'
-    call comm_exit(0)
-  end if
-  write(6, '(a,i0,a)') 'FAIL test_levelset: ', nfail, ' checks failed'
-  call comm_exit(1)
+  call check_done()
 
 contains
-
-  subroutine require(what, ok)
-    character(len=*), intent(in) :: what
-    logical, intent(in) :: ok
-    if (.not. ok) then
-      nfail = nfail + 1
-      write(6, '(a,a)') 'FAIL ', what
-    end if
-  end subroutine require
 
   subroutine fill_periodic(n, phi)
     integer, intent(in) :: n(3)
@@ -118,11 +104,11 @@ contains
       write(6, '(a,i4,a,es10.3,a,es10.3,a,f7.4)') '  translation N =', n(1), &
         ': area error ', err(m), ' (A0 vs pi r^2 ', abs(a0 - pi * r**2) / (pi * r**2), &
         '), max |phi - phi0| near interface / dx ', shift
-      call require('translation: zero level set returns (|dphi| < 0.5 dx)', shift < 0.5_wp)
+      call check('translation: zero level set returns (|dphi| < 0.5 dx)', shift < 0.5_wp)
       deallocate(phi, vel, phi_start)
     end do
-    call require('translation: area error < 1 % at 64^2', err(2) < 0.01_wp)
-    call require('translation: area error falls with resolution', &
+    call check('translation: area error < 1 % at 64^2', err(2) < 0.01_wp)
+    call check('translation: area error falls with resolution', &
       err(3) < err(2) .and. err(2) < err(1))
   end subroutine check_translation
 
@@ -176,7 +162,7 @@ contains
     write(6, '(a,f7.3,a,f7.3,a,i0,a)') '  zalesak area loss: advection only ', &
       100.0_wp * (a0 - a_plain) / a0, ' %, with reinit ', &
       100.0_wp * (a0 - a1) / a0, ' % (3 iterations every ', reinit_every, ' steps)'
-    call require('zalesak: area loss < 5 % with reinitialisation', abs(a0 - a1) / a0 < 0.05_wp)
+    call check('zalesak: area loss < 5 % with reinitialisation', abs(a0 - a1) / a0 < 0.05_wp)
   end subroutine check_zalesak
 
   !> At 64^2 the Russo-Smereka cells (first order in |grad phi| across the interface) give
@@ -221,8 +207,8 @@ contains
       '^2, 100 iterations: max ||grad phi|-1| in 4-cell band ', dev0, ' -> ', dev, &
       '; interface shift (area) / dx ', move, &
       '; mean |phi - d| at |d| < dx, / dx ', mean_err
-    call require('reinit: zero level set moves < 0.1 dx', move < 0.1_wp)
-    if (required) call require('reinit: |grad phi| = 1 within 5 % in the band', dev < 0.05_wp)
+    call check('reinit: zero level set moves < 0.1 dx', move < 0.1_wp)
+    if (required) call check('reinit: |grad phi| = 1 within 5 % in the band', dev < 0.05_wp)
   end subroutine check_reinit
 
   !> Largest ||grad f| - 1| (central differences) where the exact distance is within 4 cells.
@@ -296,8 +282,8 @@ contains
     write(6, '(a,es10.3,a,es10.3,a,es10.3,a,es10.3)') '  sphere 32^3 normals, max angle in' &
       // ' 4-cell band: 4th order ', ang4, ', 2nd order ', ang2, ' (', ang2_near, &
       ' at |phi| < dx); curvature rel. error at |phi| < dx/2 ', kerr
-    call require('normals: 4th-order normals radial within 1e-3 in the band', ang4 < 1.0e-3_wp)
-    call require('normals: 2nd-order normals radial within 1e-2 in the band', ang2 < 1.0e-2_wp)
+    call check('normals: 4th-order normals radial within 1e-3 in the band', ang4 < 1.0e-3_wp)
+    call check('normals: 2nd-order normals radial within 1e-2 in the band', ang2 < 1.0e-2_wp)
   end subroutine check_normals
 
   pure function cross(a, b) result(c)

@@ -9,16 +9,17 @@ program test_reconstruct
   use m_kinds, only: wp
   use m_reconstruct, only: reconstruct_faces, scheme_eno1, scheme_eno2, scheme_eno3, &
     scheme_weno5
-  use m_comm, only: comm_init, comm_exit
+  use m_comm, only: comm_init
+  use m_test_check, only: check_start, check, check_done
   implicit none
   integer, parameter :: schemes(4) = [scheme_eno1, scheme_eno2, scheme_eno3, scheme_weno5]
   real(wp), parameter :: need(4) = [0.9_wp, 1.8_wp, 2.7_wp, 4.5_wp]
   character(len=5), parameter :: names(4) = ['eno1 ', 'eno2 ', 'eno3 ', 'weno5']
   real(wp), parameter :: pi = 4.0_wp * atan(1.0_wp)
   real(wp) :: err(2), order, range(2)
-  integer :: s, r, nfail
+  integer :: s, r
   call comm_init()
-  nfail = 0
+  call check_start('test_reconstruct')
   do s = 1, 4
     do r = 1, 2
       err(r) = face_error(schemes(s), 40 * 2**(r - 1))
@@ -26,34 +27,22 @@ program test_reconstruct
     order = log(err(1) / err(2)) / log(2.0_wp)
     write(6, '(a,a,es10.3,a,es10.3,a,f6.3)') names(s), ': error n=40 ', err(1), &
       ', n=80 ', err(2), ', order ', order
-    if (order < need(s)) then
-      nfail = nfail + 1
-      write(6, '(a,f4.1)') '  order below ', need(s)
-    end if
+    call check(trim(names(s)) // ': order at least ' // order_text(need(s)), order >= need(s))
   end do
   do s = 2, 4
     range = transport_range(schemes(s), .true.)
     write(6, '(a,a,2es11.3)') names(s), ': bounded transport, phi min, max - 1', range(1), &
       range(2) - 1.0_wp
-    if (range(1) < -1.0e-14_wp .or. range(2) > 1.0_wp + 1.0e-14_wp) then
-      nfail = nfail + 1
-      write(6, '(a)') '  phi left [0, 1] with bounded faces'
-    end if
+    call check(trim(names(s)) // ': phi stays in [0, 1] with bounded faces', &
+      range(1) >= -1.0e-14_wp .and. range(2) <= 1.0_wp + 1.0e-14_wp)
     if (s == 2) cycle
     range = transport_range(schemes(s), .false.)
     write(6, '(a,a,2es11.3)') names(s), ': unbounded faces, phi min, max - 1', range(1), &
       range(2) - 1.0_wp
-    if (.not. (range(1) < -1.0e-10_wp .or. range(2) > 1.0_wp + 1.0e-10_wp)) then
-      nfail = nfail + 1
-      write(6, '(a)') '  the unbounded reconstruction stayed in [0, 1]: the check is blind'
-    end if
+    call check(trim(names(s)) // ': unbounded faces leave [0, 1] (else the check is blind)', &
+      range(1) < -1.0e-10_wp .or. range(2) > 1.0_wp + 1.0e-10_wp)
   end do
-  if (nfail == 0) then
-    write(6, '(a)') 'PASS test_reconstruct'
-    call comm_exit(0)
-  end if
-  write(6, '(a)') 'FAIL test_reconstruct'
-  call comm_exit(1)
+  call check_done()
 
 contains
 
@@ -128,6 +117,12 @@ contains
     r(:, 1) = -(fm(1:n) - fm(0:n-1))
     r(:, 2) = -(fs(1:n) - fs(0:n-1))
   end subroutine transport_rhs
+
+  function order_text(x) result(t)
+    real(wp), intent(in) :: x
+    character(len=4) :: t
+    write(t, '(f4.1)') x
+  end function order_text
 
   pure real(wp) function f(x)
     real(wp), intent(in) :: x

@@ -13,18 +13,17 @@ program test_strength
     strength_perfectly_plastic, strength_linear_hardening, strength_johnson_cook, &
     strength_viscoplastic
   use m_plasticity, only: radial_return, von_mises, jaumann_source
-  use m_comm, only: comm_init, comm_exit
+  use m_comm, only: comm_init
+  use m_test_check, only: check_start, check_error, check_done
   implicit none
   integer, parameter :: npts = 16
   real(wp), parameter :: pi = 3.14159265358979323846_wp
   type(strength_t) :: copper, tungsten, hh_steel, aluminium, mild_steel
   type(strength_t) :: al_piston, cu_taylor, hmx, htpb, interface_law, hmx_threshold
-  integer :: nfail, ncheck
   integer(i8) :: seed
   real(wp) :: group_err(4)   !< worst errors of a group of returns, see summary
   call comm_init()
-  nfail = 0
-  ncheck = 0
+  call check_start('test_strength', show_passes=.true.)
   seed = 20240611_i8
   group_err = [0.0_wp, 0.0_wp, 0.0_wp, huge(1.0_wp)]
   call make_materials()
@@ -66,12 +65,7 @@ program test_strength
   call check_elastic_range()
   call check_from_material()
 
-  if (nfail == 0) then
-    write(6, '(a,i0,a)') 'PASS test_strength (', ncheck, ' checks)'
-    call comm_exit(0)
-  end if
-  write(6, '(a,i0,a,i0,a)') 'FAIL test_strength: ', nfail, ' of ', ncheck, ' checks failed'
-  call comm_exit(1)
+  call check_done()
 
 contains
 
@@ -153,10 +147,10 @@ contains
   ! Largest errors of a group of check_return calls (reset by summary).
   subroutine summary(name)
     character(len=*), intent(in) :: name
-    call report(name // ': on surface', group_err(1), 1.0e-12_wp)
-    call report(name // ': consistency residual / allowed', group_err(2), 1.0_wp)
-    call report(name // ': radial direction', group_err(3), 1.0e-12_wp)
-    call report(name // ': dwp >= 0 (min dwp / (sigma_y d))', -group_err(4), 0.0_wp, &
+    call check_error(name // ': on surface', group_err(1), 1.0e-12_wp)
+    call check_error(name // ': consistency residual / allowed', group_err(2), 1.0_wp)
+    call check_error(name // ': radial direction', group_err(3), 1.0e-12_wp)
+    call check_error(name // ': dwp >= 0 (min dwp / (sigma_y d))', -group_err(4), 0.0_wp, &
       shown=group_err(4))
     group_err = 0.0_wp
     group_err(4) = huge(1.0_wp)
@@ -224,9 +218,9 @@ contains
         e_d = max(e_d, abs((eps_p(i) - eps0) - d_exact) / d_exact)
       end do
     end do
-    call report('copper Taylor bar: sigma_eq = Y0 + H eps_p after the return', e_surf, &
+    call check_error('copper Taylor bar: sigma_eq = Y0 + H eps_p after the return', e_surf, &
       1.0e-12_wp)
-    call report('copper Taylor bar: d eps_p = (sigma_trial - sigma_y0) / (3G + H)', e_d, &
+    call check_error('copper Taylor bar: d eps_p = (sigma_trial - sigma_y0) / (3G + H)', e_d, &
       1.0e-12_wp)
   end subroutine check_linear_hardening
 
@@ -267,8 +261,8 @@ contains
         write(6, '(a,es9.2,a,es9.2,a)') '  info ' // trim(label) // ': J2 error ', err_j2, &
           ', stress error ', err_s, ' (coarse run, not checked)'
       else
-        call report(trim(label) // ': J2 kept', err_j2, 1.0e-10_wp)
-        call report(trim(label) // ': S = R S0 R^T', err_s, 1.0e-10_wp)
+        call check_error(trim(label) // ': J2 kept', err_j2, 1.0e-10_wp)
+        call check_error(trim(label) // ': S = R S0 R^T', err_s, 1.0e-10_wp)
       end if
     end do
   end subroutine check_rigid_rotation
@@ -303,7 +297,7 @@ contains
       row = src(i, :)
       err = max(err, maxval(abs(to_matrix(row) - ref)) / scale)
     end do
-    call report('jaumann_source = 2 G D'' + W S - S W (random L, S)', err, 1.0e-14_wp)
+    call check_error('jaumann_source = 2 G D'' + W S - S W (random L, S)', err, 1.0e-14_wp)
   end subroutine check_jaumann_matrix
 
   !> Trial states with a trace 1, 1e3 and 1e6 times their deviator: after the return
@@ -324,7 +318,7 @@ contains
         err = max(err, abs(s(i, 1) + s(i, 2) + s(i, 3)) / frob)
       end do
     end do
-    call report('trace(S) / |S| after the return (trial trace up to 1e6 |S|)', err, 1.0e-14_wp)
+    call check_error('trace(S) / |S| after the return (trial trace up to 1e6 |S|)', err, 1.0e-14_wp)
   end subroutine check_trace
 
   !> Copper Johnson-Cook: sigma_y = 0 at and above T_melt, and the return then gives S = 0
@@ -335,19 +329,19 @@ contains
     real(wp) :: err
     temps = [1358.0_wp, 1500.0_wp, 1357.999_wp, 1300.0_wp]
     y = yield_stress(copper, 0.2_wp, 1.0e4_wp, temps)
-    call report('JC copper sigma_y at T = T_melt and above (must be 0)', maxval(abs(y(1:2))), &
+    call check_error('JC copper sigma_y at T = T_melt and above (must be 0)', maxval(abs(y(1:2))), &
       0.0_wp)
-    call report('JC copper sigma_y below melt positive (-min sigma_y)', -minval(y(3:4)), &
+    call check_error('JC copper sigma_y below melt positive (-min sigma_y)', -minval(y(3:4)), &
       0.0_wp, shown=minval(y(3:4)))
     call random_trials(nt, copper%y0, 2.0_wp, 5.0_wp, 1.0_wp, s, dev, sig)
     eps_p = 0.2_wp
     call radial_return(copper, nt, s, eps_p, temps, 1.0e-7_wp, dwp)
     err = maxval(abs(s(1:2, :)))
-    call report('JC copper return at and above melt: max |S| (must be 0)', err, 0.0_wp)
-    call report('JC copper return at and above melt: dwp (must be 0)', maxval(abs(dwp(1:2))), &
+    call check_error('JC copper return at and above melt: max |S| (must be 0)', err, 0.0_wp)
+    call check_error('JC copper return at and above melt: dwp (must be 0)', maxval(abs(dwp(1:2))), &
       0.0_wp)
     call von_mises(nt, s, sig)
-    call report('JC copper return below melt: -min sigma_eq', -minval(sig(3:4)), 0.0_wp, &
+    call check_error('JC copper return below melt: -min sigma_eq', -minval(sig(3:4)), 0.0_wp, &
       shown=minval(sig(3:4)))
   end subroutine check_melt
 
@@ -374,8 +368,8 @@ contains
         if (.not. d > 0.0_wp) err = max(err, abs(dwp(i)))
       end do
     end do
-    call report('linear hardening dwp = midpoint sigma_y d eps_p', err, 1.0e-10_wp)
-    call report('linear hardening dwp >= 0 (-min dwp)', -wmin, 0.0_wp, shown=wmin)
+    call check_error('linear hardening dwp = midpoint sigma_y d eps_p', err, 1.0e-10_wp)
+    call check_error('linear hardening dwp >= 0 (-min dwp)', -wmin, 0.0_wp, shown=wmin)
   end subroutine check_plastic_work
 
   !> Inside the surface nothing changes but the trace; an elastic material never yields.
@@ -390,14 +384,14 @@ contains
     call radial_return(copper, npts, s, eps_p, temps, 1.0e-6_wp, dwp)
     err = maxval(abs(s - dev)) / maxval(abs(dev)) + maxval(abs(eps_p - 0.1_wp)) &
       + maxval(abs(dwp))
-    call report('JC copper inside the surface: S, eps_p, dwp unchanged', err, 1.0e-15_wp)
+    call check_error('JC copper inside the surface: S, eps_p, dwp unchanged', err, 1.0e-15_wp)
     elastic = strength_from_material(material_t(strength_model='elastic', &
       shear_modulus=0.27e9_wp))
     call random_trials(npts, 1.0e9_wp, 1.0_wp, 1.0e3_wp, 1.0_wp, s, dev, sig)
     eps_p = 0.0_wp
     call radial_return(elastic, npts, s, eps_p, temps, 1.0e-6_wp, dwp)
     err = maxval(abs(s - dev)) / maxval(abs(dev)) + maxval(abs(eps_p)) + maxval(abs(dwp))
-    call report('elastic binder at 1 TPa: S, eps_p, dwp unchanged', err, 1.0e-15_wp)
+    call check_error('elastic binder at 1 TPa: S, eps_p, dwp unchanged', err, 1.0e-15_wp)
   end subroutine check_elastic_range
 
   subroutine check_from_material()
@@ -415,13 +409,13 @@ contains
     if (strength_model_from_name('viscoplastic_power_law') /= strength_viscoplastic) &
       bad = bad + 1
     if (strength_model_from_name('von_mises') /= -1) bad = bad + 1
-    call report('strength_model_from_name (wrong answers)', real(bad, wp), 0.0_wp)
+    call check_error('strength_model_from_name (wrong answers)', real(bad, wp), 0.0_wp)
     st = strength_from_material(material_t(strength_model='perfectly_plastic', &
       shear_modulus=1.0e9_wp, yield0=1.0e8_wp))
     err = abs(st%t_ref - 298.0_wp) + abs(st%taylor_quinney - 0.9_wp) &
       + abs(st%eps_rate0 - 1.0_wp) + abs(st%h)
     if (st%t_melt < huge(1.0_wp)) err = err + 1.0_wp
-    call report('strength_from_material defaults (T_ref, Taylor-Quinney, T_melt, ...)', err, &
+    call check_error('strength_from_material defaults (T_ref, Taylor-Quinney, T_melt, ...)', err, &
       0.0_wp)
     bad = 0
     if (len_trim(strength_problem(copper)) > 0) bad = bad + 1
@@ -435,7 +429,7 @@ contains
     if (len_trim(strength_problem(st)) == 0) bad = bad + 1
     st = strength_from_material(material_t(strength_model='tresca'))
     if (len_trim(strength_problem(st)) == 0) bad = bad + 1
-    call report('strength_problem accepts the library sets, refuses G = 0, m >= 1, tresca', &
+    call check_error('strength_problem accepts the library sets, refuses G = 0, m >= 1, tresca', &
       real(bad, wp), 0.0_wp)
   end subroutine check_from_material
 
@@ -493,21 +487,5 @@ contains
     m(2, 2) = 1.0_wp
     m(3, 3) = 1.0_wp
   end function identity
-
-  subroutine report(what, err, tol, shown)
-    character(len=*), intent(in) :: what
-    real(wp), intent(in) :: err, tol
-    real(wp), intent(in), optional :: shown
-    real(wp) :: value
-    ncheck = ncheck + 1
-    value = err
-    if (present(shown)) value = shown
-    if (err <= tol) then
-      write(6, '(a,es10.3,a,es8.1,a)') '  ok   ' // what // ': ', value, ' (tol ', tol, ')'
-    else
-      nfail = nfail + 1
-      write(6, '(a,es10.3,a,es8.1,a)') '  FAIL ' // what // ': ', value, ' (tol ', tol, ')'
-    end if
-  end subroutine report
 
 end program test_strength
