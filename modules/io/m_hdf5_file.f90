@@ -14,6 +14,7 @@ module m_hdf5_file
     h5tset_strpad_f, h5tget_class_f, H5T_NATIVE_CHARACTER, H5T_STR_NULLPAD_F, H5T_STRING_F
   use m_comm, only: comm_world_handles
   use m_errors, only: fatal
+  use m_deck_text, only: int_text
   implicit none
   private
   public :: h5_file_t, h5_init, h5_finalize, h5_create_file, h5_open_read, h5_close
@@ -229,12 +230,6 @@ contains
     if (f%id < 0) call fatal(here, routine // ' called on a file that is not open ' // &
       '(a bug in the caller: h5_create or h5_open_read first)')
   end subroutine require_open
-
-  pure function int_text(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    s = dims_text([i])
-  end function int_text
 
   !> Integers joined by x, as a shape is written: 12x8x16.
   pure function dims_text(d) result(s)

@@ -8,6 +8,7 @@
 !> A NaN never passes. int_text writes an integer for a message.
 module m_test_check
   use m_kinds, only: wp, i8
+  use m_deck_text, only: int_text
   use m_comm, only: comm_rank, comm_size, comm_sum, comm_exit, comm_is_root
   implicit none
   private
@@ -93,14 +94,6 @@ contains
     call comm_exit(1)
   end subroutine check_done
 
-  !> An integer as text, for messages.
-  pure function int_text(i) result(s)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: s
-    character(len=16) :: buf
-    write(buf, '(i0)') i
-    s = trim(buf)
-  end function int_text
 
   subroutine record(ok, text)
     logical, intent(in) :: ok
