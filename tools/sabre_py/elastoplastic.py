@@ -56,6 +56,7 @@ import math
 from collections import namedtuple
 
 import numpy as np
+from scipy.integrate import quad
 from scipy.optimize import brentq
 
 __all__ = ["Material", "State", "PistonSolution", "MATERIALS", "ElastoPlasticError",
@@ -176,7 +177,7 @@ def elastic_energy(mat, st):
     return 0.0 if mat.G == 0.0 else 3.0 * st.sxx ** 2 / (8.0 * mat.G * st.rho)
 
 
-def plastic_work(mat, rho, n=2000):
+def plastic_work(mat, rho):
     """Plastic work per unit mass on the monotone path from rho0 to rho (eq 6):
     int sigma_y d(eps_p) / rho; (2/3) Y (1/rho_HEL - 1/rho) in the hypo-elastic, perfectly
     plastic case.  Path-independent for the same reason as S (eq 6)."""
@@ -186,13 +187,12 @@ def plastic_work(mat, rho, n=2000):
         return 0.0
     if mat.H == 0.0 and mat.elastic == "hypo":
         return 2.0 / 3.0 * mat.Y * (1.0 / rho_y - 1.0 / rho)
-    r = np.linspace(rho_y, rho, n + 1)  # composite Simpson in rho
     k = 1.0 / (1.0 + mat.H / (3.0 * mat.G))
-    eps_p = np.array([deviator(mat, x)[1] for x in r])
-    dstrain = np.array([_strain(mat, x)[1] for x in r])
-    f = (mat.Y + mat.H * eps_p) * (2.0 / 3.0) * k * dstrain / r
-    h = (rho - rho_y) / n
-    return float(h / 3.0 * (f[0] + f[-1] + 4.0 * f[1:-1:2].sum() + 2.0 * f[2:-1:2].sum()))
+
+    def dwork(r):  # sigma_y d(eps_p)/d(rho) / rho
+        return (mat.Y + mat.H * deviator(mat, r)[1]) * (2.0 / 3.0) * k * _strain(mat, r)[1] / r
+
+    return quad(dwork, rho_y, rho, epsabs=0.0, epsrel=1e-12)[0]  # adaptive (QUADPACK)
 
 
 def rest_state(mat):
