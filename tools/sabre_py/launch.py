@@ -56,6 +56,19 @@ def log_tail(path, n=6, prefix="\n    | "):
     return "".join(prefix + line for line in lines)
 
 
+def first_error(path):
+    """The solver's first ERROR line in a log (under mpirun it is not among the last), as
+    '\n    ERROR ...', or ''."""
+    try:
+        with open(path, errors="replace") as f:
+            for line in f:
+                if line.startswith("ERROR"):
+                    return "\n    " + line.rstrip()
+    except OSError:
+        pass
+    return ""
+
+
 def show(path):
     """path relative to the current folder when that is shorter."""
     r = os.path.relpath(path, os.getcwd())
@@ -133,7 +146,8 @@ def run_sabre(deck, out_dir, overrides=(), np=1, sabre=None, mpirun=None, timeou
         print("  $ " + " ".join(shlex.quote(c) for c in cmd), flush=True)
     rc = run_logged(cmd, log, timeout, mpi_env(env))
     if rc != 0:
-        raise SabreRunError("solver exited with status %d on %d rank(s): %s (log: %s)%s"
+        tail, error = log_tail(log), first_error(log)
+        raise SabreRunError("solver exited with status %d on %d rank(s): %s (log: %s)%s%s"
                             % (rc, np, " ".join(shlex.quote(c) for c in cmd), show(log),
-                               log_tail(log)))
+                               "" if error.strip() in tail else error, tail))
     return os.path.abspath(folder)
