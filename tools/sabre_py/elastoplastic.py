@@ -34,7 +34,7 @@ mass flux m = rho_a (D - u_a) = rho_b (D - u_b) > 0:
     m^2 = (sigma_a - sigma_b) / (v_a - v_b),   u_b = u_a + m (v_a - v_b),        (9, 10)
     e_b - e_a = (sigma_a + sigma_b)/2 (v_b - v_a).                              (11)
 With (2) and S_b = S(rho_b), (11) is linear in e_b and is solved exactly (eq 12); the
-density behind is found by bisection on u_b(rho_b) = u_p.
+density behind is the root of u_b(rho_b) = u_p (scipy.optimize.brentq).
 
 Waves: an elastic precursor (a weak shock, solved exactly, not linearised) from rest to
 the Hugoniot elastic limit (HEL, rho_HEL = rho0 exp(Y/(2G))), then a plastic shock from
@@ -56,6 +56,8 @@ import math
 from collections import namedtuple
 
 import numpy as np
+from scipy.integrate import quad
+from scipy.optimize import brentq
 
 __all__ = ["Material", "State", "PistonSolution", "MATERIALS", "ElastoPlasticError",
            "reference_curve", "pressure", "deviator", "elastic_energy", "plastic_work",
@@ -175,7 +177,7 @@ def elastic_energy(mat, st):
     return 0.0 if mat.G == 0.0 else 3.0 * st.sxx ** 2 / (8.0 * mat.G * st.rho)
 
 
-def plastic_work(mat, rho, n=2000):
+def plastic_work(mat, rho):
     """Plastic work per unit mass on the monotone path from rho0 to rho (eq 6):
     int sigma_y d(eps_p) / rho; (2/3) Y (1/rho_HEL - 1/rho) in the hypo-elastic, perfectly
     plastic case.  Path-independent for the same reason as S (eq 6)."""
@@ -185,13 +187,12 @@ def plastic_work(mat, rho, n=2000):
         return 0.0
     if mat.H == 0.0 and mat.elastic == "hypo":
         return 2.0 / 3.0 * mat.Y * (1.0 / rho_y - 1.0 / rho)
-    r = np.linspace(rho_y, rho, n + 1)  # composite Simpson in rho
     k = 1.0 / (1.0 + mat.H / (3.0 * mat.G))
-    eps_p = np.array([deviator(mat, x)[1] for x in r])
-    dstrain = np.array([_strain(mat, x)[1] for x in r])
-    f = (mat.Y + mat.H * eps_p) * (2.0 / 3.0) * k * dstrain / r
-    h = (rho - rho_y) / n
-    return float(h / 3.0 * (f[0] + f[-1] + 4.0 * f[1:-1:2].sum() + 2.0 * f[2:-1:2].sum()))
+
+    def dwork(r):  # sigma_y d(eps_p)/d(rho) / rho
+        return (mat.Y + mat.H * deviator(mat, r)[1]) * (2.0 / 3.0) * k * _strain(mat, r)[1] / r
+
+    return quad(dwork, rho_y, rho, epsabs=0.0, epsrel=1e-12)[0]  # adaptive (QUADPACK)
 
 
 def rest_state(mat):
@@ -240,53 +241,41 @@ def _rho_limit(mat, a):
 def solve_shock(mat, a, u_target):
     """Shock from state a whose state behind moves at u_target > a.u: (state, D).
 
-    Bisection on rho_b (u_b increases with rho_b on the Hugoniot), to the last bit."""
+    u_b increases with rho_b on the Hugoniot: rho_b is the root of u_b(rho_b) = u_target,
+    bracketed between a.rho and the limiting compression and found by scipy's brentq."""
     if not u_target > a.u:
         raise ElastoPlasticError("the piston must be faster than the state ahead")
 
-    def u_of(rho):
+    def du(rho):
         try:
-            return shock_from(mat, a, rho)[0].u
+            return shock_from(mat, a, rho)[0].u - u_target
         except ElastoPlasticError:
             # a jump too small to resolve (sigma_b == sigma_a to round-off) moves nothing;
             # otherwise we are at or past the limiting compression
-            return a.u if rho - a.rho < 1e-8 * a.rho else math.inf
+            return a.u - u_target if rho - a.rho < 1e-8 * a.rho else math.inf
 
     lim = _rho_limit(mat, a)
     lo = a.rho
     if math.isfinite(lim):
-        hi = lim  # u_b -> infinity there
+        # u_b -> infinity at lim: halve towards lo until u_b there is finite and too fast
+        hi = lim
+        while not 0.0 <= du(hi) < math.inf:
+            mid = 0.5 * (lo + hi)
+            if mid <= lo or mid >= hi:
+                raise ElastoPlasticError("piston too fast: u_p = %r is beyond the Hugoniot"
+                                         % u_target)
+            if du(mid) < 0.0:
+                lo = mid
+            else:
+                hi = mid
     else:  # no limiting compression (s <= 1 and Gamma0 = 0): double until bracketed
         hi = 2.0 * a.rho
-        while u_of(hi) < u_target:
+        while du(hi) < 0.0:
             lo, hi = hi, 2.0 * hi
             if hi > 1e6 * a.rho:
                 raise ElastoPlasticError("no shock found to u = %r" % u_target)
-    for _ in range(400):
-        mid = 0.5 * (lo + hi)
-        if mid <= lo or mid >= hi:
-            break
-        if u_of(mid) < u_target:
-            lo = mid
-        else:
-            hi = mid
-    if math.isfinite(lim) and hi >= lim:
-        raise ElastoPlasticError("piston too fast: u_p = %r is beyond the Hugoniot"
-                                 % u_target)
-    # the better of the two ends
-    best = None
-    for rho in (lo, hi):
-        if rho <= a.rho:
-            continue
-        try:
-            st, d = shock_from(mat, a, rho)
-        except ElastoPlasticError:
-            continue
-        if best is None or abs(st.u - u_target) < abs(best[0].u - u_target):
-            best = (st, d)
-    if best is None:
-        raise ElastoPlasticError("no shock found from %r to u = %r" % (a, u_target))
-    return best
+    rho = brentq(du, lo, hi, xtol=1e-300, rtol=4.0 * np.finfo(float).eps, maxiter=500)
+    return shock_from(mat, a, rho)
 
 
 def longitudinal_speed(mat):

@@ -1,14 +1,18 @@
 """run.json, the facts of a finished SABRE run (manual/user-guide.md, "run.json"): what the
-tools read instead of run.log's wording.
+tools read instead of run.log's wording; and the one reader of run.log, for the tests that
+check what run.log says.
 
-    from sabre_py.runjson import read_run
+    from sabre_py.runjson import read_run, run_cost
     run = read_run('out/sod')              # a folder, or the path of its run.json
     run['cost']['cell_steps'], run['timings']['loop_seconds']
+    cell_steps, loop_seconds, peak_mb = run_cost('out/sod')
 
 Numbers the solver could not give (a per cent of a part that is off) are None.
+`python3 -m sabre_py.runjson FOLDER ...` (from tools/) prints a line per run.
 """
 import json
 import os
+import re
 
 
 class RunJsonError(Exception):
@@ -45,6 +49,37 @@ def loop_cost(path):
 def peak_mb(path):
     """Peak resident memory over all ranks in MB (2^20 bytes)."""
     return float(read_run(path)['memory']['peak_resident_bytes']) / 2**20
+
+
+def run_cost(path):
+    """(cell-steps, time-loop wall seconds, peak resident MB over all ranks) of a run."""
+    run = read_run(path)
+    return (float(run['cost']['cell_steps']), float(run['timings']['loop_seconds']),
+            float(run['memory']['peak_resident_bytes']) / 2**20)
+
+
+def read_log(path):
+    """The text of run.log of the folder `path` (or the file itself): for tests that check
+    run.log's wording; tools read run.json."""
+    if os.path.isdir(path):
+        path = os.path.join(path, 'run.log')
+    try:
+        with open(path, errors='replace') as f:
+            return f.read()
+    except OSError as e:
+        raise RunJsonError(f'{path}: {e.strerror} (did the run start?)') from e
+
+
+def log_number(text, label):
+    """The first number after the regular expression `label` in run.log's text; NaN if none."""
+    m = re.search(label + r' *([-0-9.Ee+]+)', text)
+    return float(m.group(1)) if m else float('nan')
+
+
+def log_lines(text, prefix):
+    """The lines of run.log's (or the solver's standard output's) text that start with
+    prefix, e.g. 'progress: '."""
+    return [ln for ln in text.splitlines() if ln.startswith(prefix)]
 
 
 if __name__ == '__main__':
