@@ -340,9 +340,8 @@ contains
   !> fill replaces it near the interfaces).
   subroutine sim_paint_initial_state(sim)
     type(sim_t), intent(inout) :: sim
-    integer :: b, i, j, k, nb, l, m, p, off, own(1, 1, 1)
-    real(wp) :: x(3), rho, vel(3), pres, e(1), phi(1, 1, 1, sim%ls%n), bigphi(1, 1, 1)
-    real(wp) :: rest(2)
+    integer :: b, i, j, k, l, m
+    real(wp) :: x(3), phi(1, 1, 1, sim%ls%n)
     real(wp), parameter :: two_pi = 8.0_wp * atan(1.0_wp)
     do b = 1, size(sim%blocks)
       associate (blk => sim%blocks(b))
@@ -360,41 +359,7 @@ contains
                 end do
               end do
               blk%q(i, j, k, sim%ph%ils + 1:sim%ph%nvar) = phi(1, 1, 1, :)
-              do p = 1, sim%ph%nphase
-                rest = sim%ph%rest(:, p)
-                rho = rest(1)
-                pres = rest(2)
-                vel = 0.0_wp
-                do nb = 1, sim%cfg%n_bodies
-                  if (.not. paints(nb, p)) cycle
-                  associate (body => sim%cfg%bodies(nb))
-                    if (.not. inside_body(body, sim%lay%ndim, x)) cycle
-                    ! the exact cell average of the sinusoid, so that smooth data start at
-                    ! the order of the scheme rather than at second order
-                    rho = body%rho * (1.0_wp + body%amplitude &
-                      * sin(two_pi * dot_product(body%wavevector, x)) &
-                      * product(sinc(0.5_wp * two_pi * body%wavevector * sim%lay%dx)))
-                    pres = body%p
-                    vel = body%velocity
-                  end associate
-                end do
-                if (sim%ls%n > 0) then
-                  call ls_region(sim%ls, p, [1, 1, 1], [1, 1, 1], phi, bigphi, own)
-                  if (bigphi(1, 1, 1) >= 0.0_wp) then
-                    rho = rest(1)
-                    pres = rest(2)
-                    vel = 0.0_wp
-                  end if
-                end if
-                call eos_energy(sim%ph%eos(p), 1, [rho], [pres], e)
-                off = sim%ph%lo(p) - 1
-                blk%q(i, j, k, off + 1:off + sim%ph%nflow) = 0.0_wp
-                blk%q(i, j, k, off + i_rho) = rho
-                blk%q(i, j, k, off + i_mx) = rho * vel(1)
-                blk%q(i, j, k, off + i_my) = rho * vel(2)
-                blk%q(i, j, k, off + i_mz) = rho * vel(3)
-                blk%q(i, j, k, off + i_en) = rho * (e(1) + 0.5_wp * sum(vel**2))
-              end do
+              call phase_states(blk%q(i, j, k, :), x, phi)
             end do
           end do
         end do
@@ -402,6 +367,50 @@ contains
     end do
 
   contains
+
+    !> The state of every phase in the cell at x of level sets phi: its rest state, or the
+    !> state of the last body that paints the phase and holds x, within the phase's region.
+    subroutine phase_states(qc, x, phi)
+      real(wp), intent(inout) :: qc(:)
+      real(wp), intent(in) :: x(3), phi(1, 1, 1, sim%ls%n)
+      integer :: p, nb, off, own(1, 1, 1)
+      real(wp) :: rho, vel(3), pres, e(1), bigphi(1, 1, 1), rest(2)
+      do p = 1, sim%ph%nphase
+        rest = sim%ph%rest(:, p)
+        rho = rest(1)
+        pres = rest(2)
+        vel = 0.0_wp
+        do nb = 1, sim%cfg%n_bodies
+          if (.not. paints(nb, p)) cycle
+          associate (body => sim%cfg%bodies(nb))
+            if (.not. inside_body(body, sim%lay%ndim, x)) cycle
+            ! the exact cell average of the sinusoid, so that smooth data start at
+            ! the order of the scheme rather than at second order
+            rho = body%rho * (1.0_wp + body%amplitude &
+              * sin(two_pi * dot_product(body%wavevector, x)) &
+              * product(sinc(0.5_wp * two_pi * body%wavevector * sim%lay%dx)))
+            pres = body%p
+            vel = body%velocity
+          end associate
+        end do
+        if (sim%ls%n > 0) then
+          call ls_region(sim%ls, p, [1, 1, 1], [1, 1, 1], phi, bigphi, own)
+          if (bigphi(1, 1, 1) >= 0.0_wp) then
+            rho = rest(1)
+            pres = rest(2)
+            vel = 0.0_wp
+          end if
+        end if
+        call eos_energy(sim%ph%eos(p), 1, [rho], [pres], e)
+        off = sim%ph%lo(p) - 1
+        qc(off + 1:off + sim%ph%nflow) = 0.0_wp
+        qc(off + i_rho) = rho
+        qc(off + i_mx) = rho * vel(1)
+        qc(off + i_my) = rho * vel(2)
+        qc(off + i_mz) = rho * vel(3)
+        qc(off + i_en) = rho * (e(1) + 0.5_wp * sum(vel**2))
+      end do
+    end subroutine phase_states
 
     !> body nb paints phase pp: a body of the base material paints the base phase; a
     !> material body with a level set paints its own phase

@@ -257,7 +257,7 @@ contains
           if (present(keep)) mc = max(m1, keep)
         end if
       end if
-      if (mc <= nvar) call copy_piece(plan, blocks, plan%copy(c), mc, nvar)
+      if (mc <= nvar) call copy_piece(blocks, plan%copy(c), mc, nvar)
     end do
     if (plan%npartner > 0) call exchange_wait(plan%ex, plan%recvbuf)
     do r = 1, plan%npartner
@@ -271,24 +271,20 @@ contains
       type(piece_t), intent(in) :: list(:)
       real(wp), intent(inout) :: buf(:)
       logical, intent(in) :: into
-      integer :: kp, mv, i, j, kk, pos
+      integer :: kp, pos, nc, ext(4)
       pos = 0
       do kp = 1, size(list)
-        associate (pc => list(kp), q => blocks(list(kp)%local)%q)
-          do mv = m1, nvar
-            do kk = pc%lo(3), pc%hi(3)
-              do j = pc%lo(2), pc%hi(2)
-                do i = pc%lo(1), pc%hi(1)
-                  pos = pos + 1
-                  if (into) then
-                    buf(pos) = q(i, j, kk, mv)
-                  else
-                    q(i, j, kk, mv) = buf(pos)
-                  end if
-                end do
-              end do
-            end do
-          end do
+        associate (lo => list(kp)%lo, hi => list(kp)%hi, q => blocks(list(kp)%local)%q)
+          ext = [hi - lo + 1, nvar - m1 + 1]
+          nc = product(ext)
+          if (into) then
+            buf(pos + 1:pos + nc) = reshape(q(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), &
+              m1:nvar), [nc])
+          else
+            q(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), m1:nvar) = &
+              reshape(buf(pos + 1:pos + nc), ext)
+          end if
+          pos = pos + nc
         end associate
       end do
     end subroutine carry
@@ -304,43 +300,24 @@ contains
     integer, intent(in) :: b, nvar, first
     integer :: c
     do c = 1, plan%ncopy
-      if (plan%copy(c)%local == b) call copy_piece(plan, blocks, plan%copy(c), first, nvar)
+      if (plan%copy(c)%local == b) call copy_piece(blocks, plan%copy(c), first, nvar)
     end do
   end subroutine halo_refresh
 
-  subroutine copy_piece(plan, blocks, pc, m1, nvar)
-    type(halo_plan_t), intent(in) :: plan
+  !> Piece pc of the local copies, variables m1..nvar: the box lo..hi of block pc%local
+  !> from the box starting at slo of block pc%src_local (the same block along a periodic
+  !> direction with a single block: the two boxes never overlap).
+  subroutine copy_piece(blocks, pc, m1, nvar)
     type(block_t), intent(inout) :: blocks(:)
     type(piece_t), intent(in) :: pc
     integer, intent(in) :: m1, nvar
-    if (pc%local == pc%src_local) then
-      call copy_within(plan%ng, blocks(pc%local)%q, pc%lo, pc%hi, pc%slo, m1, nvar)
-    else
-      call copy_box(plan%ng, blocks(pc%local)%q, blocks(pc%src_local)%q, pc%lo, pc%hi, &
-        pc%slo, m1, nvar)
-    end if
+    integer :: shi(3)
+    shi = pc%slo + pc%hi - pc%lo
+    associate (lo => pc%lo, hi => pc%hi, slo => pc%slo, dst => blocks(pc%local)%q, &
+        src => blocks(pc%src_local)%q)
+      dst(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), m1:nvar) = &
+        src(slo(1):shi(1), slo(2):shi(2), slo(3):shi(3), m1:nvar)
+    end associate
   end subroutine copy_piece
-
-  !> dst(box lo..hi) = src(box starting at slo), two distinct blocks.
-  subroutine copy_box(ng, dst, src, lo, hi, slo, m1, nvar)
-    integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), m1, nvar
-    real(wp), intent(inout) :: dst(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
-    real(wp), intent(in) :: src(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
-    integer :: shi(3)
-    shi = slo + hi - lo
-    dst(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), m1:nvar) = &
-      src(slo(1):shi(1), slo(2):shi(2), slo(3):shi(3), m1:nvar)
-  end subroutine copy_box
-
-  !> The same within one block (a periodic direction with a single block): the two boxes
-  !> never overlap.
-  subroutine copy_within(ng, q, lo, hi, slo, m1, nvar)
-    integer, intent(in) :: ng(3), lo(3), hi(3), slo(3), m1, nvar
-    real(wp), intent(inout) :: q(1-ng(1):, 1-ng(2):, 1-ng(3):, :)
-    integer :: shi(3)
-    shi = slo + hi - lo
-    q(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), m1:nvar) = &
-      q(slo(1):shi(1), slo(2):shi(2), slo(3):shi(3), m1:nvar)
-  end subroutine copy_within
 
 end module m_halo
