@@ -9,7 +9,7 @@ module m_gfm_stage
   use m_layout, only: layout_t
   use m_blocks, only: block_t
   use m_halo, only: halo_plan_t
-  use m_boundary, only: bc_kind_t, refresh_ghosts
+  use m_boundary, only: bc_kind_t, fill_ghosts, ghosts_flow
   use m_phases, only: phases_t
   use m_config, only: body_t
   use m_euler, only: numerics_t, euler_work_t, euler_rhs
@@ -36,7 +36,7 @@ contains
     type(gf_t), intent(inout) :: gf
     type(ls_set_t), intent(in) :: ls
     type(phases_t), intent(in) :: ph
-    type(halo_plan_t), intent(in) :: plan
+    type(halo_plan_t), intent(inout) :: plan
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
     type(body_t), intent(in) :: bodies(:)
@@ -48,7 +48,7 @@ contains
       if (.not. gf%dormant(b)) cycle
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
       if (gfm_dormant(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work)) cycle
-      call refresh_ghosts(plan, lay, bc, blocks, ph, b, t)
+      call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, only=b)
     end do
     do b = 1, size(blocks)
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)

@@ -17,7 +17,7 @@ module m_boundary
   implicit none
   private
   public :: bc_kind_t, bc_outflow, bc_symmetry, bc_rigid, bc_periodic, bc_velocity
-  public :: bc_from_name, boundary_apply, boundary_walls, fill_ghosts, refresh_ghosts
+  public :: bc_from_name, boundary_apply, boundary_walls, fill_ghosts
   public :: ghosts_all, ghosts_flow, ghosts_level_sets
 
   integer, parameter :: bc_outflow = 1, bc_symmetry = 2, bc_rigid = 3, bc_periodic = 4
@@ -245,8 +245,10 @@ contains
   !> The ghost cells of a set of variables (ghosts_all, ghosts_flow, ghosts_level_sets) on
   !> every block: the halo exchange (m_halo), then the side conditions of the domain. A block
   !> in skip (a dormant one, far from every surface) keeps its flow ghosts as they are and
-  !> takes only its level sets', which always move.
-  subroutine fill_ghosts(plan, lay, bc, blocks, ph, set, time, skip)
+  !> takes only its level sets', which always move. With `only`, block only alone: its flow
+  !> halo from its neighbours on this rank (not changed since the last exchange), then all
+  !> its side conditions; a block that wakes after being skipped.
+  subroutine fill_ghosts(plan, lay, bc, blocks, ph, set, time, skip, only)
     type(halo_plan_t), intent(inout) :: plan
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
@@ -255,7 +257,13 @@ contains
     integer, intent(in) :: set
     real(wp), intent(in) :: time
     logical, intent(in), optional :: skip(:)
+    integer, intent(in), optional :: only
     integer :: first, last
+    if (present(only)) then
+      call halo_refresh(plan, blocks, only, ph%ils, 1)
+      call boundary_apply(lay, bc, blocks(only:only), ph%nvar, ph%nflow, time, ph%nphase)
+      return
+    end if
     first = 1
     last = ph%nvar
     if (set == ghosts_flow) last = ph%ils
@@ -264,19 +272,5 @@ contains
     call boundary_apply(lay, bc, blocks, last, ph%nflow, time, ph%nphase, skip=skip, &
       keep=ph%ils + 1, first=first)
   end subroutine fill_ghosts
-
-  !> Block b's flow halo from its neighbours on this rank, then its side conditions: a block
-  !> that wakes after being skipped by fill_ghosts (its neighbours not yet changed).
-  subroutine refresh_ghosts(plan, lay, bc, blocks, ph, b, time)
-    type(halo_plan_t), intent(in) :: plan
-    type(layout_t), intent(in) :: lay
-    type(bc_kind_t), intent(in) :: bc
-    type(block_t), intent(inout) :: blocks(:)
-    type(phases_t), intent(in) :: ph
-    integer, intent(in) :: b
-    real(wp), intent(in) :: time
-    call halo_refresh(plan, blocks, b, ph%ils, 1)
-    call boundary_apply(lay, bc, blocks(b:b), ph%nvar, ph%nflow, time, ph%nphase)
-  end subroutine refresh_ghosts
 
 end module m_boundary
