@@ -9,16 +9,20 @@
 !> and corners at the domain boundary see the conditions of both sides.
 module m_boundary
   use m_kinds, only: wp
+  use m_config, only: choice_index
   use m_layout, only: layout_t, block_neighbor, wall_neighbor
   use m_blocks, only: block_t
   use m_state, only: i_rho, i_mx, i_en, n_euler, stress_index
   implicit none
   private
   public :: bc_kind_t, bc_outflow, bc_symmetry, bc_rigid, bc_periodic, bc_velocity
-  public :: bc_from_name, boundary_apply, boundary_walls
+  public :: bc_from_name, boundary_apply, boundary_walls, bc_names
 
   integer, parameter :: bc_outflow = 1, bc_symmetry = 2, bc_rigid = 3, bc_periodic = 4
   integer, parameter :: bc_velocity = 5
+  !> the deck's names (&domain bc_lo, bc_hi): name k stands for condition k
+  character(len=8), parameter :: bc_names(5) = [character(len=8) :: 'outflow', 'symmetry', &
+    'rigid', 'periodic', 'velocity']
 
   !> The conditions on the six sides of the domain.
   type :: bc_kind_t
@@ -31,18 +35,7 @@ contains
 
   integer function bc_from_name(name) result(k)
     character(len=*), intent(in) :: name
-    select case (trim(name))
-    case ('symmetry')
-      k = bc_symmetry
-    case ('rigid')
-      k = bc_rigid
-    case ('periodic')
-      k = bc_periodic
-    case ('velocity')
-      k = bc_velocity
-    case default
-      k = bc_outflow
-    end select
+    k = choice_index(bc_names, name, 'bc_from_name')
   end function bc_from_name
 
   !> What lies beyond side s (-1 low, +1 high) of direction d of block id at time t:
