@@ -36,14 +36,14 @@ contains
   subroutine deck_read(path, overrides, cfg)
     character(len=*), intent(in) :: path
     character(len=*), intent(in) :: overrides(:)
-    type(config_t), intent(out) :: cfg
+    type(config_t), target, intent(out) :: cfg
     character(len=:), allocatable :: text, base, msg, err_group, err_what
     type(deck_group_t), allocatable :: groups(:)
     integer :: n_groups
     logical :: ok
 
-    call deck_errors_begin()
     base = base_name(path)
+    call deck_errors_begin(base)
     text = ''
     msg = ''
     ok = .true.
@@ -54,14 +54,14 @@ contains
 
     call deck_split(text, groups, n_groups, err_group, err_what)
     ! a syntax error is named by its group ('&run'), if it is inside one
-    if (len(err_what) > 0) call fail_now(base, repeat('&', min(1, len(err_group))) &
+    if (len(err_what) > 0) call fail_now(repeat('&', min(1, len(err_group))) &
       // err_group, err_what, '')
-    call apply_overrides(base, overrides, groups, n_groups)
+    call apply_overrides(overrides, groups, n_groups)
 
     cfg%deck_file = path
     cfg%block = 0
-    call read_groups(base, groups, n_groups, cfg)
-    call deck_check(base, groups, n_groups, cfg)
+    call read_groups(groups, n_groups, cfg)
+    call deck_check(groups, n_groups, cfg)
     call deck_errors_stop()
   end subroutine deck_read
 
@@ -88,8 +88,7 @@ contains
   !> Turn each `group.var[(i)]=value` into an assignment appended to the first instance of
   !> the group (made if absent). Unquoted string values are quoted, since the shell eats
   !> the quotes of run.out_dir='x'.
-  subroutine apply_overrides(base, overrides, groups, n_groups)
-    character(len=*), intent(in) :: base
+  subroutine apply_overrides(overrides, groups, n_groups)
     character(len=*), intent(in) :: overrides(:)
     type(deck_group_t), allocatable, intent(inout) :: groups(:)
     integer, intent(inout) :: n_groups
@@ -105,7 +104,7 @@ contains
       dot = 0
       if (eq > 1) dot = index(ov(1:eq - 1), '.')
       if (dot <= 1 .or. dot >= eq - 1) then
-        call fail(base, '', "bad command-line override '" // ov &
+        call fail('', "bad command-line override '" // ov &
           // "' (expected group.variable=value such as run.out_dir='out/x')", '')
         cycle
       end if
@@ -116,7 +115,7 @@ contains
         a%name = to_lower(trim(lhs(1:paren - 1)))
         a%index = lhs(paren:)
         if (lhs(len(lhs):len(lhs)) /= ')') then
-          call fail(base, '', "bad command-line override '" // ov &
+          call fail('', "bad command-line override '" // ov &
             // "' (an index is written cells(2)=100)", '')
           cycle
         end if
@@ -125,13 +124,13 @@ contains
         a%index = ''
       end if
       if (.not. in_list(gname, known_groups)) then
-        call fail(base, '&' // gname, 'unknown group (known: ' // known_groups // ')', '')
+        call fail('&' // gname, 'unknown group (known: ' // known_groups // ')', '')
         cycle
       end if
       vars = group_table(gname)
       k = var_index(vars, a%name)
       if (k == 0) then
-        call fail_unknown_var(base, gname, a%name, vars)
+        call fail_unknown_var(gname, a%name, vars)
         cycle
       end if
       a%value = trim(adjustl(ov(eq + 1:)))
@@ -173,8 +172,7 @@ contains
   !> Read every group in deck order into cfg (values only; checks come after). A &material
   !> reads its name first: a library entry of that name is the start that its other values
   !> override.
-  subroutine read_groups(base, groups, n_groups, cfg)
-    character(len=*), intent(in) :: base
+  subroutine read_groups(groups, n_groups, cfg)
     type(deck_group_t), intent(in) :: groups(:)
     integer, intent(in) :: n_groups
     type(config_t), target, intent(inout) :: cfg
@@ -187,31 +185,31 @@ contains
       select case (gname)
       case ('run', 'domain', 'numerics', 'physics', 'output')
         do j = 1, i - 1
-          if (groups(j)%name == gname) call fail(base, '&' // gname, 'group given twice ' &
+          if (groups(j)%name == gname) call fail('&' // gname, 'group given twice ' &
             // '(lines ' // int_text(groups(j)%line) // ' and ' // int_text(groups(i)%line) &
             // '); only &material and &body may repeat', '')
         end do
         call deck_table(cfg, cfg%materials(1), cfg%bodies(1), vars)
-        call read_group(base, groups(i), vars, 0)
+        call read_group(groups(i), vars, 0)
       case ('material')
-        if (cfg%n_materials == max_materials) call fail_now(base, '&material', 'more than ' &
+        if (cfg%n_materials == max_materials) call fail_now('&material', 'more than ' &
           // int_text(max_materials) // ' &material groups (max_materials of m_config)', '')
         n = cfg%n_materials + 1
         cfg%n_materials = n
         call deck_table(cfg, cfg%materials(n), cfg%bodies(1), vars)
-        call read_group(base, groups(i), vars, 1)
+        call read_group(groups(i), vars, 1)
         gname = cfg%materials(n)%name
         call library_lookup(gname, cfg%materials(n), found)
         cfg%materials(n)%name = gname
-        call read_group(base, groups(i), vars, 2)
+        call read_group(groups(i), vars, 2)
       case ('body')
-        if (cfg%n_bodies == max_bodies) call fail_now(base, '&body', 'more than ' &
+        if (cfg%n_bodies == max_bodies) call fail_now('&body', 'more than ' &
           // int_text(max_bodies) // ' &body groups (max_bodies of m_config)', '')
         cfg%n_bodies = cfg%n_bodies + 1
         call deck_table(cfg, cfg%materials(1), cfg%bodies(cfg%n_bodies), vars)
-        call read_group(base, groups(i), vars, 0)
+        call read_group(groups(i), vars, 0)
       case default
-        call fail(base, '&' // gname, 'unknown group (known: ' // known_groups // ')', '')
+        call fail('&' // gname, 'unknown group (known: ' // known_groups // ')', '')
         call mark_meant_group(gname)
       end select
     end do
@@ -220,8 +218,7 @@ contains
   !> Read the assignments of group g into the components that the table lines vars point
   !> at: all of them (pass 0), only those of `name` (1) or all others (2). Each is checked
   !> first: a name the group knows, a value of the variable's form, a keyword's choice.
-  subroutine read_group(base, g, every, pass)
-    character(len=*), intent(in) :: base
+  subroutine read_group(g, every, pass)
     type(deck_group_t), intent(in) :: g
     type(deck_var_t), intent(in) :: every(:)
     integer, intent(in) :: pass
@@ -235,27 +232,27 @@ contains
         if (pass > 0 .and. ((a%name == 'name') .neqv. (pass == 1))) cycle
         j = var_index(vars, a%name)
         if (j == 0) then
-          call fail_unknown_var(base, g%name, a%name, vars)
+          call fail_unknown_var(g%name, a%name, vars)
           cycle
         end if
         where = '&' // g%name // ' ' // trim(vars(j)%name)
         why = check_value(vars(j), a%index, a%value)
         if (len(why) > 0) then
-          call fail(base, where // a%index, why // at_line(a%line), vars(j)%typical)
+          call fail(where // a%index, why // at_line(a%line), vars(j)%typical)
           cycle
         end if
         msg = ''
         call read_value(vars(j), a%index, a%value, ios, msg)
-        if (ios /= 0) call fail(base, where // a%index, 'cannot read ' // a%value &
+        if (ios /= 0) call fail(where // a%index, 'cannot read ' // a%value &
           // at_line(a%line) // ' (' // trim(msg) // ')', vars(j)%typical)
-        if (vars(j)%kind == 'k') call check_choice(base, where, vars(j))
+        if (vars(j)%kind == 'k') call check_choice(where, vars(j))
       end associate
     end do
   end subroutine read_group
 
   !> A keyword must be one of its choices (or empty, where the table allows it).
-  subroutine check_choice(base, where, v)
-    character(len=*), intent(in) :: base, where
+  subroutine check_choice(where, v)
+    character(len=*), intent(in) :: where
     type(deck_var_t), intent(in) :: v
     integer :: k
     if (associated(v%c)) call one(v%c, '')
@@ -271,7 +268,7 @@ contains
       if (in_list(x, v%choices) .or. (v%empty_ok .and. len_trim(x) == 0)) return
       what = trim(v%name)
       if (what(1:min(3, len(what))) == 'bc_') what = 'bc'
-      call fail(base, where // subscript, 'unknown ' // what // " '" // trim(x) &
+      call fail(where // subscript, 'unknown ' // what // " '" // trim(x) &
         // "' (allowed: " // v%choices // ')', '')
     end subroutine one
   end subroutine check_choice
@@ -287,8 +284,8 @@ contains
     end do
   end subroutine mark_meant_group
 
-  subroutine fail_unknown_var(base, gname, name, vars)
-    character(len=*), intent(in) :: base, gname, name
+  subroutine fail_unknown_var(gname, name, vars)
+    character(len=*), intent(in) :: gname, name
     type(deck_var_t), intent(in) :: vars(:)
     character(len=:), allocatable :: why, other
     integer :: k, d, best, best_d
@@ -309,7 +306,7 @@ contains
     else
       why = 'unknown variable (known: ' // joined(vars%name) // ')'
     end if
-    call fail(base, '&' // gname // ' ' // name, why, '')
+    call fail('&' // gname // ' ' // name, why, '')
     ! the variable meant is then missing, but that is the same mistake
     if (best > 0) call deck_error_mark('&' // gname // ' ' // to_lower(trim(vars(best)%name)))
   end subroutine fail_unknown_var

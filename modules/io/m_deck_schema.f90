@@ -25,7 +25,7 @@ module m_deck_schema
   implicit none
   private
   public :: deck_table, group_table, group_names, known_groups, var_index, group_of
-  public :: fail, fail_now, bad, error_line, deck_errors_begin, deck_errors_stop
+  public :: fail, fail_now, rule, error_line, deck_errors_begin, deck_errors_stop
   public :: deck_error_count, deck_error_mark, deck_has_error
 
   character(len=8), parameter :: group_names(7) = [character(len=8) :: 'run', 'domain', &
@@ -55,7 +55,7 @@ module m_deck_schema
   ! what group_table binds to (its lines are read for their names, kinds and typical values)
   type(config_t), target, save :: proto
   ! the errors found so far (lines), and the variables they name ('&group var')
-  character(len=:), allocatable :: err_text, err_keys
+  character(len=:), allocatable :: err_base, err_text, err_keys
   integer :: n_errors = 0
 
 contains
@@ -283,8 +283,10 @@ contains
     if (present(empty_ok)) v%empty_ok = empty_ok
   end subroutine keyword
 
-  !> Start a deck read with no errors.
-  subroutine deck_errors_begin()
+  !> Start reading the deck called base (the name in every error line) with no errors.
+  subroutine deck_errors_begin(base)
+    character(len=*), intent(in) :: base
+    err_base = base
     err_text = ''
     err_keys = '|'
     n_errors = 0
@@ -292,20 +294,19 @@ contains
 
   !> Record `ERROR <base> <where>: <why> (typical value <typical>)` and return, unless the
   !> variable of `where` has had an error already.
-  subroutine fail(base, where, why, typical)
-    character(len=*), intent(in) :: base, where, why, typical
-    if (.not. allocated(err_text)) call deck_errors_begin()
+  subroutine fail(where, why, typical)
+    character(len=*), intent(in) :: where, why, typical
     if (deck_has_error(where)) return
     call deck_error_mark(where)
     if (n_errors > 0) err_text = err_text // new_line('a')
-    err_text = err_text // error_line(base, where, why, typical)
+    err_text = err_text // error_line(err_base, where, why, typical)
     n_errors = n_errors + 1
   end subroutine fail
 
   !> fail(), then stop every rank with every error found so far.
-  subroutine fail_now(base, where, why, typical)
-    character(len=*), intent(in) :: base, where, why, typical
-    call fail(base, where, why, typical)
+  subroutine fail_now(where, why, typical)
+    character(len=*), intent(in) :: where, why, typical
+    call fail(where, why, typical)
     call deck_errors_stop()
   end subroutine fail_now
 
@@ -330,7 +331,6 @@ contains
   !> '&group *' takes every variable of the group (a group missing or misspelled).
   subroutine deck_error_mark(where)
     character(len=*), intent(in) :: where
-    if (.not. allocated(err_keys)) call deck_errors_begin()
     if (index(error_key(where), ' ') == 0) return
     if (.not. deck_has_error(where)) err_keys = err_keys // error_key(where) // '|'
   end subroutine deck_error_mark
@@ -341,7 +341,6 @@ contains
     character(len=:), allocatable :: key
     integer :: blank
     has = .false.
-    if (.not. allocated(err_keys)) return
     key = error_key(where)
     blank = index(key, ' ')
     if (blank == 0) return
@@ -360,19 +359,22 @@ contains
     if (len_trim(typical) > 0) line = line // ' (typical value ' // trim(typical) // ')'
   end function error_line
 
-  !> fail() for variable vname (possibly with an index) of group gname, with its typical
-  !> value from the table.
-  subroutine bad(base, gname, vname, why)
-    character(len=*), intent(in) :: base, gname, vname, why
+  !> One rule of the deck: when `prohibited` holds, the variable var ('group name', with an
+  !> index maybe) is refused for the reason why, with its typical value from the table.
+  subroutine rule(prohibited, var, why)
+    logical, intent(in) :: prohibited
+    character(len=*), intent(in) :: var, why
     type(deck_var_t), allocatable :: vars(:)
-    integer :: k
-    vars = group_table(gname)
-    k = var_index(vars, to_lower(vname(1:index(vname // '(', '(') - 1)))
+    integer :: blank, k
+    if (.not. prohibited) return
+    blank = index(var // ' ', ' ')
+    vars = group_table(var(1:blank - 1))
+    k = var_index(vars, to_lower(var(blank + 1:index(var // '(', '(') - 1)))
     if (k > 0) then
-      call fail(base, '&' // gname // ' ' // vname, why, vars(k)%typical)
+      call fail('&' // var, why, vars(k)%typical)
     else
-      call fail(base, '&' // gname // ' ' // vname, why, '')
+      call fail('&' // var, why, '')
     end if
-  end subroutine bad
+  end subroutine rule
 
 end module m_deck_schema
