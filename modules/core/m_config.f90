@@ -18,53 +18,26 @@ module m_config
   integer, parameter :: max_bodies = 64
   integer, parameter :: max_fields = 32
 
+  !> One &material group (the table of m_deck_schema says what each value is).
   type :: material_t
-    character(len=name_len) :: name = ''
-    character(len=name_len) :: eos = ''
-    real(wp) :: rho0 = unset
-    real(wp) :: p0 = unset
-    real(wp) :: gamma = unset
-    real(wp) :: p_inf = unset
-    real(wp) :: c0 = unset
-    real(wp) :: s = unset
-    real(wp) :: gruneisen = unset
-    real(wp) :: cv = unset
-    real(wp) :: T0 = unset
-    real(wp) :: bulk_modulus = unset
-    real(wp) :: poly_a = unset
-    real(wp) :: poly_b = unset
+    character(len=name_len) :: name = '', eos = ''
+    real(wp) :: rho0 = unset, p0 = unset, gamma = unset, p_inf = unset, c0 = unset, s = unset
+    real(wp) :: gruneisen = unset, cv = unset, T0 = unset
+    real(wp) :: bulk_modulus = unset, poly_a = unset, poly_b = unset
     character(len=name_len) :: strength_model = ''
-    real(wp) :: shear_modulus = unset
-    real(wp) :: yield0 = unset
-    real(wp) :: hardening_modulus = unset
-    real(wp) :: jc_b = unset
-    real(wp) :: jc_n = unset
-    real(wp) :: jc_c = unset
-    real(wp) :: jc_m = unset
-    real(wp) :: t_melt = unset
-    real(wp) :: eps_rate0 = unset
-    real(wp) :: vp_chi = unset
-    real(wp) :: vp_m = unset
-    real(wp) :: vp_n = unset
+    real(wp) :: shear_modulus = unset, yield0 = unset, hardening_modulus = unset
+    real(wp) :: jc_b = unset, jc_n = unset, jc_c = unset, jc_m = unset, t_melt = unset
+    real(wp) :: eps_rate0 = unset, vp_chi = unset, vp_m = unset, vp_n = unset
     real(wp) :: taylor_quinney = unset
   end type material_t
 
+  !> One &body group.
   type :: body_t
-    character(len=name_len) :: name = ''
-    character(len=name_len) :: material = ''
-    character(len=name_len) :: shape = ''
-    real(wp) :: center(3) = 0.0_wp
-    real(wp) :: radius = 0.0_wp
-    real(wp) :: length = 0.0_wp
-    real(wp) :: axis(3) = [0.0_wp, 0.0_wp, 1.0_wp]
-    real(wp) :: lo(3) = 0.0_wp
-    real(wp) :: hi(3) = 0.0_wp
-    real(wp) :: velocity(3) = 0.0_wp
-    real(wp) :: rho = unset
-    real(wp) :: p = unset
-    real(wp) :: T = unset
-    real(wp) :: amplitude = 0.0_wp
-    real(wp) :: wavevector(3) = 0.0_wp
+    character(len=name_len) :: name = '', material = '', shape = ''
+    real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp, length = 0.0_wp
+    real(wp) :: axis(3) = [0.0_wp, 0.0_wp, 1.0_wp], lo(3) = 0.0_wp, hi(3) = 0.0_wp
+    real(wp) :: velocity(3) = 0.0_wp, rho = unset, p = unset, T = unset
+    real(wp) :: amplitude = 0.0_wp, wavevector(3) = 0.0_wp
   end type body_t
 
   type :: config_t
@@ -74,51 +47,30 @@ module m_config
     real(wp) :: t_end = unset
     integer :: max_steps = huge(1)
     real(wp) :: wall_limit = 0.0_wp
-    character(len=path_len) :: out_dir = 'out'
+    character(len=path_len) :: out_dir = 'out', restart = ''
     logical :: overwrite = .false.
-    character(len=path_len) :: restart = ''
     ! &domain
-    integer :: ndim = 0
-    character(len=name_len) :: geometry = 'cartesian'
-    real(wp) :: lo(3) = 0.0_wp
-    real(wp) :: hi(3) = 1.0_wp
-    integer :: cells(3) = 1
-    integer :: block(3) = 1
-    character(len=name_len) :: bc_lo(3) = 'outflow'
-    character(len=name_len) :: bc_hi(3) = 'outflow'
-    real(wp) :: bc_velocity(3) = 0.0_wp
-    real(wp) :: bc_rise_time = 0.0_wp
-    character(len=name_len) :: base_material = ''
+    integer :: ndim = 0, cells(3) = 1, block(3) = 1
+    character(len=name_len) :: geometry = 'cartesian', base_material = ''
+    real(wp) :: lo(3) = 0.0_wp, hi(3) = 1.0_wp, bc_velocity(3) = 0.0_wp, bc_rise_time = 0.0_wp
+    character(len=name_len) :: bc_lo(3) = 'outflow', bc_hi(3) = 'outflow'
     ! &numerics
-    character(len=name_len) :: scheme = ''
-    character(len=name_len) :: flux = ''
-    character(len=name_len) :: scalar_flux = ''
+    character(len=name_len) :: scheme = '', flux = '', scalar_flux = ''
     character(len=line_len) :: numerics_note = ''   ! not read: what m_numerics_defaults chose
-    character(len=name_len) :: surface_flux = 'material'
-    character(len=name_len) :: conserve = 'mass_energy'
-    integer :: rk_order = 3
-    real(wp) :: cfl = 0.5_wp
-    real(wp) :: dt_max = unset
+    character(len=name_len) :: surface_flux = 'material', conserve = 'mass_energy'
     character(len=name_len) :: gfm_probe = 'auto'
-    integer :: reinit_every = 5
-    integer :: band = 6
-    real(wp) :: contact_kappa = 1.0_wp
+    integer :: rk_order = 3, reinit_every = 5, band = 6
+    real(wp) :: cfl = 0.5_wp, dt_max = unset, contact_kappa = 1.0_wp
     ! &physics
-    logical :: strength = .false.
-    logical :: thermal = .false.
-    logical :: heat_conduction = .false.
+    logical :: strength = .false., thermal = .false., heat_conduction = .false.
     logical :: reaction = .false.
     ! &material, &body
-    integer :: n_materials = 0
+    integer :: n_materials = 0, n_bodies = 0
     type(material_t) :: materials(max_materials)
-    integer :: n_bodies = 0
     type(body_t) :: bodies(max_bodies)
     ! &output
     real(wp) :: plot_dt = 0.0_wp
-    integer :: plot_every = 0
-    integer :: checkpoint_every = 0
-    integer :: history_every = 1
-    integer :: n_fields = 0
+    integer :: plot_every = 0, checkpoint_every = 0, history_every = 1, n_fields = 0
     character(len=name_len) :: fields(max_fields) = ''
   end type config_t
 
@@ -129,6 +81,7 @@ contains
     real(wp), intent(in) :: x
     is_set = x > 0.5_wp * unset
   end function is_set
+
   !> Index of the material called name in cfg%materials, 0 when there is none.
   pure integer function material_index(cfg, name) result(k)
     type(config_t), intent(in) :: cfg
