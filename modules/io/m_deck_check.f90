@@ -201,10 +201,8 @@ contains
         n = n + 1
         kept(n) = cfg%fields(k)
       end do
-      if (n == 0) then
-        n = size(default_fields)
-        kept(1:n) = default_fields
-      end if
+      if (n == 0) kept(1:size(default_fields)) = default_fields
+      if (n == 0) n = size(default_fields)
       cfg%n_fields = n
       cfg%fields = kept
     end subroutine check_output
@@ -552,10 +550,8 @@ contains
     target = merge(32, 64, nd == 3)
     b = n
     if (n <= target) return
-    do b = target, target / 2, -1
-      if (mod(n, b) == 0) return
-    end do
-    b = target
+    b = findloc([(mod(n, b) == 0, b = target, target / 2, -1)], .true., 1)
+    b = merge(target + 1 - b, target, b > 0)
   end function default_block
 
   !> the midpoint between the c-th and (c+1)-th smallest of e, or -huge when they are equal
@@ -586,7 +582,7 @@ contains
     t = ', got ' // real_text(x)
   end function gr
 
-  function gi(i) result(t)
+  function gi(i) result(t)   ! an integer's
     integer, intent(in) :: i
     character(len=:), allocatable :: t
     t = ', got ' // int_text(i)
