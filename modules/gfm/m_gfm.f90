@@ -71,6 +71,7 @@ module m_gfm
 
 contains
 
+  !> The probe kind of a deck name (one of probe_names).
   integer function probe_from_name(name) result(k)
     character(len=*), intent(in) :: name
     k = choice_index(probe_names, name, 'probe_from_name')

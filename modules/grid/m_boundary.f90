@@ -33,6 +33,7 @@ module m_boundary
 
 contains
 
+  !> The condition of a deck name (one of bc_names).
   integer function bc_from_name(name) result(k)
     character(len=*), intent(in) :: name
     k = choice_index(bc_names, name, 'bc_from_name')

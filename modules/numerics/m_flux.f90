@@ -27,6 +27,7 @@ module m_flux
 
 contains
 
+  !> The flux kind of a deck name (flux_names), and of a scalar flux (scalar_flux_names).
   integer function flux_from_name(name) result(kind)
     character(len=*), intent(in) :: name
     kind = choice_index(flux_names, name, 'flux_from_name')

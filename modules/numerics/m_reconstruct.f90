@@ -27,6 +27,7 @@ module m_reconstruct
 
 contains
 
+  !> The scheme of a deck name (one of scheme_names).
   integer function scheme_from_name(name) result(scheme)
     character(len=*), intent(in) :: name
     scheme = scheme_codes(choice_index(scheme_names, name, 'scheme_from_name'))
