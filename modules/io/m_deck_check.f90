@@ -481,8 +481,8 @@ contains
                 // 'lo(' // int_text(d) // ') = ' // real_text(b%lo(d)) // in_b // gr(b%hi(d)))
             end do
           end if
-          call rule((b%shape == 'sphere' .or. b%shape == 'cylinder') .and. .not. b%radius > 0.0_wp, &
-            'body radius', what // gr(b%radius))
+          call rule((b%shape == 'sphere' .or. b%shape == 'cylinder') .and. .not. &
+            b%radius > 0.0_wp, 'body radius', what // gr(b%radius))
           call rule(b%shape == 'cylinder' .and. .not. b%length > 0.0_wp, 'body length', what &
             // gr(b%length))
           call rule((b%shape == 'cylinder' .or. b%shape == 'half_space') .and. .not. &
