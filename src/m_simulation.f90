@@ -8,14 +8,13 @@
 !> m_output).
 module m_simulation
   use m_kinds, only: wp, i8, name_len
-  use m_config, only: config_t, material_t, is_set, material_index
+  use m_config, only: config_t, material_t, material_index
   use m_layout, only: layout_t, layout_init, block_offset, block_extent
   use m_blocks, only: block_t, blocks_allocate
   use m_halo, only: halo_plan_t, halo_plan_build
   use m_partition, only: partition_blocks
   use m_boundary, only: bc_kind_t, bc_from_name
-  use m_eos, only: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial, &
-    eos_energy, eos_prepare
+  use m_eos, only: eos_t, eos_from_material, eos_energy, eos_prepare
   use m_euler, only: euler_work_t, euler_work_init, numerics_t, euler_max_rate
   use m_phases, only: phases_t
   use m_fallback, only: counters_t
@@ -120,7 +119,7 @@ contains
       sim%ph%strong(p) = cfg%strength .and. sim%ph%st(p)%model /= strength_none
       sim%ph%shear(p) = 0.0_wp
       if (sim%ph%strong(p)) sim%ph%shear(p) = sim%ph%st(p)%g
-      sim%ph%eos(p) = eos_of(mat)
+      sim%ph%eos(p) = eos_from_material(mat)
       call eos_prepare(sim%ph%eos(p))
       sim%ph%rest(:, p) = [mat%rho0, mat%p0]
       if (any(sim%ph%material(1:p-1) == sim%ph%material(p))) cycle
@@ -305,32 +304,6 @@ contains
     end function own_level_set
 
   end subroutine level_set_bodies
-
-  function eos_of(mat) result(eos)
-    type(material_t), intent(in) :: mat
-    type(eos_t) :: eos
-    select case (trim(mat%eos))
-    case ('stiffened_gas')
-      eos%kind = eos_stiffened_gas
-    case ('mie_gruneisen')
-      eos%kind = eos_mie_gruneisen
-    case ('polynomial_mie_gruneisen')
-      eos%kind = eos_polynomial
-    case default
-      eos%kind = eos_ideal_gas
-    end select
-    if (is_set(mat%gamma)) eos%gamma = mat%gamma
-    if (is_set(mat%p_inf)) eos%p_inf = mat%p_inf
-    if (is_set(mat%rho0)) eos%rho0 = mat%rho0
-    if (is_set(mat%c0)) eos%c0 = mat%c0
-    if (is_set(mat%s)) eos%s = mat%s
-    if (is_set(mat%gruneisen)) eos%gruneisen = mat%gruneisen
-    if (is_set(mat%cv)) eos%cv = mat%cv
-    if (is_set(mat%T0)) eos%T0 = mat%T0
-    if (is_set(mat%bulk_modulus)) eos%bulk = mat%bulk_modulus
-    if (is_set(mat%poly_a)) eos%poly_a = mat%poly_a
-    if (is_set(mat%poly_b)) eos%poly_b = mat%poly_b
-  end function eos_of
 
   !> Initial state: each phase at its reference state at rest where it is not computed; the
   !> base phase its material with the bodies of that material painted over it in deck

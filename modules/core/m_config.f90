@@ -1,13 +1,16 @@
-!> The resolved input deck as one derived type (DESIGN section 6).
-!> m_deck fills it from the namelist file and validates it; every other module reads it.
-!> Reals that the deck left unset hold `unset`; m_deck resolves them (material library,
-!> body defaults) before the driver sees the configuration, so after m_deck returns no
-!> field holds `unset` unless it is documented as optional.
+!> The resolved input deck as one derived type (DESIGN section 6): a component per deck
+!> variable, with its type and default (the material and body groups in material_t and
+!> body_t); what each means, its typical value and how it is read, written and checked come
+!> from its one line in the table of m_deck_schema. m_deck fills it and validates it; every
+!> other module reads it. Reals that the deck left unset hold `unset`; m_deck resolves them
+!> (material library, body defaults), so that after m_deck no field holds `unset` unless
+!> the table calls it optional.
 module m_config
   use m_kinds, only: wp, name_len, path_len, line_len
+  use m_errors, only: fatal
   implicit none
   private
-  public :: config_t, material_t, body_t, unset, is_set, material_index
+  public :: config_t, material_t, body_t, unset, is_set, material_index, choice_index
   public :: max_materials, max_bodies, max_fields
 
   real(wp), parameter :: unset = -huge(1.0_wp)
@@ -15,61 +18,26 @@ module m_config
   integer, parameter :: max_bodies = 64
   integer, parameter :: max_fields = 32
 
-  !> One &material group. `eos` is 'ideal_gas' | 'stiffened_gas' | 'mie_gruneisen'.
+  !> One &material group (the table of m_deck_schema says what each value is).
   type :: material_t
-    character(len=name_len) :: name = ''
-    character(len=name_len) :: eos = ''
-    real(wp) :: rho0 = unset        !< reference density (kg/m3)
-    real(wp) :: p0 = unset          !< reference (initial) pressure (Pa)
-    real(wp) :: gamma = unset       !< ratio of specific heats (ideal, stiffened gas)
-    real(wp) :: p_inf = unset       !< stiffening pressure (Pa)
-    real(wp) :: c0 = unset          !< Mie-Gruneisen bulk sound speed (m/s)
-    real(wp) :: s = unset           !< Mie-Gruneisen Us-up slope
-    real(wp) :: gruneisen = unset   !< Mie-Gruneisen Gamma0
-    real(wp) :: cv = unset          !< specific heat at constant volume (J/kg K)
-    real(wp) :: T0 = unset          !< reference temperature (K)
-    ! polynomial Mie-Gruneisen (eos 'polynomial_mie_gruneisen'):
-    ! p = K mu + A mu^2 + B mu^3 + gruneisen (1 + mu) rho0 e, mu = rho / rho0 - 1
-    real(wp) :: bulk_modulus = unset   !< K (Pa)
-    real(wp) :: poly_a = unset         !< A (Pa)
-    real(wp) :: poly_b = unset         !< B (Pa)
-    ! strength: strength_model 'none' | 'elastic' | 'perfectly_plastic' | 'linear_hardening' |
-    ! 'johnson_cook' | 'viscoplastic_power_law'
+    character(len=name_len) :: name = '', eos = ''
+    real(wp) :: rho0 = unset, p0 = unset, gamma = unset, p_inf = unset, c0 = unset, s = unset
+    real(wp) :: gruneisen = unset, cv = unset, T0 = unset
+    real(wp) :: bulk_modulus = unset, poly_a = unset, poly_b = unset
     character(len=name_len) :: strength_model = ''
-    real(wp) :: shear_modulus = unset      !< G (Pa)
-    real(wp) :: yield0 = unset             !< initial yield stress; Johnson-Cook A (Pa)
-    real(wp) :: hardening_modulus = unset  !< linear hardening H = d sigma_y / d eps_p (Pa)
-    real(wp) :: jc_b = unset               !< Johnson-Cook B (Pa)
-    real(wp) :: jc_n = unset               !< Johnson-Cook n
-    real(wp) :: jc_c = unset               !< Johnson-Cook C
-    real(wp) :: jc_m = unset               !< Johnson-Cook m
-    real(wp) :: t_melt = unset             !< melt temperature (K): no strength above it
-    real(wp) :: eps_rate0 = unset          !< reference plastic strain rate (1/s)
-    real(wp) :: vp_chi = unset             !< power law: rate = chi eps_rate^m sigma^n (MPa^-n)
-    real(wp) :: vp_m = unset
-    real(wp) :: vp_n = unset
-    real(wp) :: taylor_quinney = unset     !< share of plastic work turned into heat (0.9)
+    real(wp) :: shear_modulus = unset, yield0 = unset, hardening_modulus = unset
+    real(wp) :: jc_b = unset, jc_n = unset, jc_c = unset, jc_m = unset, t_melt = unset
+    real(wp) :: eps_rate0 = unset, vp_chi = unset, vp_m = unset, vp_n = unset
+    real(wp) :: taylor_quinney = unset
   end type material_t
 
-  !> One &body group. material may be a material name, 'void' or 'rigid'.
-  !> shape: 'box' (lo, hi) | 'sphere' (center, radius) | 'cylinder' (center, radius,
-  !> length, axis) | 'half_space' (center = a point on the plane, axis = outward normal).
+  !> One &body group.
   type :: body_t
-    character(len=name_len) :: name = ''
-    character(len=name_len) :: material = ''
-    character(len=name_len) :: shape = ''
-    real(wp) :: center(3) = 0.0_wp
-    real(wp) :: radius = 0.0_wp
-    real(wp) :: length = 0.0_wp
-    real(wp) :: axis(3) = [0.0_wp, 0.0_wp, 1.0_wp]
-    real(wp) :: lo(3) = 0.0_wp
-    real(wp) :: hi(3) = 0.0_wp
-    real(wp) :: velocity(3) = 0.0_wp
-    real(wp) :: rho = unset         !< unset: the material's rho0
-    real(wp) :: p = unset           !< unset: the material's p0
-    real(wp) :: T = unset           !< optional; when set (and p unset) p follows from rho, T
-    real(wp) :: amplitude = 0.0_wp  !< density perturbation rho (1 + amplitude sin(2 pi k.x))
-    real(wp) :: wavevector(3) = 0.0_wp   !< k (waves per unit length) of that perturbation
+    character(len=name_len) :: name = '', material = '', shape = ''
+    real(wp) :: center(3) = 0.0_wp, radius = 0.0_wp, length = 0.0_wp
+    real(wp) :: axis(3) = [0.0_wp, 0.0_wp, 1.0_wp], lo(3) = 0.0_wp, hi(3) = 0.0_wp
+    real(wp) :: velocity(3) = 0.0_wp, rho = unset, p = unset, T = unset
+    real(wp) :: amplitude = 0.0_wp, wavevector(3) = 0.0_wp
   end type body_t
 
   type :: config_t
@@ -78,59 +46,34 @@ module m_config
     character(len=128) :: title = ''
     real(wp) :: t_end = unset
     integer :: max_steps = huge(1)
-    real(wp) :: wall_limit = 0.0_wp          !< seconds; 0 = no limit
-    character(len=path_len) :: out_dir = 'out'
+    real(wp) :: wall_limit = 0.0_wp
+    character(len=path_len) :: out_dir = 'out', restart = ''
     logical :: overwrite = .false.
-    character(len=path_len) :: restart = ''
     ! &domain
-    integer :: ndim = 0
-    character(len=name_len) :: geometry = 'cartesian'
-    real(wp) :: lo(3) = 0.0_wp
-    real(wp) :: hi(3) = 1.0_wp
-    integer :: cells(3) = 1
-    integer :: block(3) = 1
-    character(len=name_len) :: bc_lo(3) = 'outflow'
-    character(len=name_len) :: bc_hi(3) = 'outflow'
-    real(wp) :: bc_velocity(3) = 0.0_wp      !< normal velocity component on 'velocity' sides
-    real(wp) :: bc_rise_time = 0.0_wp        !< linear ramp of bc_velocity from t = 0
-    character(len=name_len) :: base_material = ''
+    integer :: ndim = 0, cells(3) = 1, block(3) = 1
+    character(len=name_len) :: geometry = 'cartesian', base_material = ''
+    real(wp) :: lo(3) = 0.0_wp, hi(3) = 1.0_wp, bc_velocity(3) = 0.0_wp, bc_rise_time = 0.0_wp
+    character(len=name_len) :: bc_lo(3) = 'outflow', bc_hi(3) = 'outflow'
     ! &numerics
-    ! scheme, flux and scalar_flux left empty are chosen for the scene once its effects are
-    ! resolved (m_numerics_defaults; numerics_note says what and why)
-    character(len=name_len) :: scheme = ''
-    character(len=name_len) :: flux = ''
-    character(len=name_len) :: scalar_flux = ''      !< solids: flux of rho eps_p, rho w_c
-    character(len=line_len) :: numerics_note = ''
-    !> solids with level sets: S, eps_p, w_c across a surface face ('material' | 'llf')
-    character(len=name_len) :: surface_flux = 'material'
-    !> solids with level sets: what the conservation fix returns ('mass_energy' | 'mass' |
-    !> 'none'; m_gfm_conserve)
-    character(len=name_len) :: conserve = 'mass_energy'
-    integer :: rk_order = 3
-    real(wp) :: cfl = 0.5_wp
-    real(wp) :: dt_max = unset               !< optional cap on dt (order studies)
+    character(len=name_len) :: scheme = '', flux = '', scalar_flux = ''
+    character(len=line_len) :: numerics_note = ''   ! not read: what m_numerics_defaults chose
+    character(len=name_len) :: surface_flux = 'material', conserve = 'mass_energy'
     character(len=name_len) :: gfm_probe = 'auto'
-    integer :: reinit_every = 5
-    integer :: band = 6
-    real(wp) :: contact_kappa = 1.0_wp    !< bodies closer than 2 kappa dx are in contact
-    ! &physics (switches for later effects; resolved against the materials)
-    logical :: strength = .false.
-    logical :: thermal = .false.
-    logical :: heat_conduction = .false.
+    integer :: rk_order = 3, reinit_every = 5, band = 6
+    real(wp) :: cfl = 0.5_wp, dt_max = unset, contact_kappa = 1.0_wp
+    ! &physics
+    logical :: strength = .false., thermal = .false., heat_conduction = .false.
     logical :: reaction = .false.
     ! &material, &body
-    integer :: n_materials = 0
+    integer :: n_materials = 0, n_bodies = 0
     type(material_t) :: materials(max_materials)
-    integer :: n_bodies = 0
     type(body_t) :: bodies(max_bodies)
     ! &output
-    real(wp) :: plot_dt = 0.0_wp             !< 0 = only the final plot (and plot_every)
-    integer :: plot_every = 0                !< 0 = off
-    integer :: checkpoint_every = 0          !< steps; 0 = only at wall_limit
-    integer :: history_every = 1
-    integer :: n_fields = 0
+    real(wp) :: plot_dt = 0.0_wp
+    integer :: plot_every = 0, checkpoint_every = 0, history_every = 1, n_fields = 0
     character(len=name_len) :: fields(max_fields) = ''
   end type config_t
+
 contains
 
   !> True when a real has been given a value (comparing reals for equality is avoided).
@@ -138,6 +81,7 @@ contains
     real(wp), intent(in) :: x
     is_set = x > 0.5_wp * unset
   end function is_set
+
   !> Index of the material called name in cfg%materials, 0 when there is none.
   pure integer function material_index(cfg, name) result(k)
     type(config_t), intent(in) :: cfg
@@ -147,4 +91,12 @@ contains
     end do
     k = 0
   end function material_index
+
+  !> The position of name in the choice list names (the names a module exports for a deck
+  !> variable). A name not on the list is a programming error: the deck refuses it.
+  integer function choice_index(names, name, who) result(k)
+    character(len=*), intent(in) :: names(:), name, who
+    k = findloc(names, adjustl(name), 1)
+    if (k == 0) call fatal(who, "unknown name '" // trim(name) // "'")
+  end function choice_index
 end module m_config

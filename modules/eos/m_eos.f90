@@ -21,16 +21,20 @@
 !> Not here: strength, reaction, mixtures.
 module m_eos
   use m_kinds, only: wp
+  use m_config, only: material_t, is_set, choice_index
   implicit none
   private
   public :: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial
   public :: eos_pressure, eos_energy, eos_sound_speed2, eos_temperature, eos_min_pressure
-  public :: eos_prepare
+  public :: eos_prepare, eos_names, eos_from_material
 
   integer, parameter :: eos_ideal_gas = 1
   integer, parameter :: eos_stiffened_gas = 2
   integer, parameter :: eos_mie_gruneisen = 3
   integer, parameter :: eos_polynomial = 4
+  !> the deck's names (&material eos): name k stands for kind k
+  character(len=24), parameter :: eos_names(4) = [character(len=24) :: 'ideal_gas', &
+    'stiffened_gas', 'mie_gruneisen', 'polynomial_mie_gruneisen']
 
   ! Isentrope table (eq. 2.13): nodes eta_j = j deta, eta = 0 is node 0 so that the kink of
   ! the reference curves at rho = rho0 falls on a node; RK4 takes rk4_substeps steps per
@@ -61,6 +65,25 @@ module m_eos
   end type eos_t
 
 contains
+
+  !> The equation of state of a material (its eos and the constants it sets; the rest keep
+  !> the eos_t defaults).
+  function eos_from_material(mat) result(eos)
+    type(material_t), intent(in) :: mat
+    type(eos_t) :: eos
+    eos%kind = choice_index(eos_names, mat%eos, 'eos_from_material')
+    if (is_set(mat%gamma)) eos%gamma = mat%gamma
+    if (is_set(mat%p_inf)) eos%p_inf = mat%p_inf
+    if (is_set(mat%rho0)) eos%rho0 = mat%rho0
+    if (is_set(mat%c0)) eos%c0 = mat%c0
+    if (is_set(mat%s)) eos%s = mat%s
+    if (is_set(mat%gruneisen)) eos%gruneisen = mat%gruneisen
+    if (is_set(mat%cv)) eos%cv = mat%cv
+    if (is_set(mat%T0)) eos%T0 = mat%T0
+    if (is_set(mat%bulk_modulus)) eos%bulk = mat%bulk_modulus
+    if (is_set(mat%poly_a)) eos%poly_a = mat%poly_a
+    if (is_set(mat%poly_b)) eos%poly_b = mat%poly_b
+  end function eos_from_material
 
   !> Hugoniot pressure and energy and their derivatives d/drho (eq. 2.4).
   elemental subroutine hugoniot(eos, rho, ph, eh, dph, deh)

@@ -16,6 +16,7 @@
 !> ghosts of neighbour blocks are seen too. Kernels only: no MPI, no I/O.
 module m_gfm
   use m_kinds, only: wp, i8
+  use m_config, only: choice_index
   use m_layout, only: layout_t, cell_volume
   use m_eos, only: eos_t, eos_energy, eos_sound_speed2, eos_pressure
   use m_elastoplastic, only: primitive_row
@@ -31,9 +32,13 @@ module m_gfm
   public :: gfm_work_t, gfm_work_init, gfm_fill, gfm_rest, gfm_counts_t, gfm_scene_t
   public :: gfm_drop_debris, gfm_dormant, gf_t, gf_fit
   public :: probe_kind_trilinear, probe_kind_least_squares, probe_kind_auto, probe_from_name
+  public :: probe_names
 
   integer, parameter :: probe_kind_trilinear = 1, probe_kind_least_squares = 2
   integer, parameter :: probe_kind_auto = 3
+  !> the deck's names (&numerics gfm_probe): name k stands for probe kind k
+  character(len=13), parameter :: probe_names(3) = [character(len=13) :: 'trilinear', &
+    'least_squares', 'auto']
 
   !> What the fills of a run did (this rank): ghosts filled, by which probe, and how often
   !> a ghost needed help (too few real neighbours, a ghost pressure without sound speed).
@@ -98,16 +103,10 @@ contains
     allocate(gf%vel(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), 3), gf%ls_rhs(n(1), n(2), n(3)))
   end subroutine gf_fit
 
+  !> The probe kind of a deck name (one of probe_names).
   integer function probe_from_name(name) result(k)
     character(len=*), intent(in) :: name
-    select case (trim(name))
-    case ('trilinear')
-      k = probe_kind_trilinear
-    case ('least_squares')
-      k = probe_kind_least_squares
-    case default
-      k = probe_kind_auto
-    end select
+    k = choice_index(probe_names, name, 'probe_from_name')
   end function probe_from_name
 
   subroutine gfm_work_init(lay, nflow, nphase, work)

@@ -9,6 +9,7 @@
 !> and corners at the domain boundary see the conditions of both sides.
 module m_boundary
   use m_kinds, only: wp
+  use m_config, only: choice_index
   use m_layout, only: layout_t, block_neighbor, wall_neighbor
   use m_blocks, only: block_t
   use m_state, only: i_rho, i_mx, i_en, n_euler, stress_index
@@ -19,9 +20,13 @@ module m_boundary
   public :: bc_kind_t, bc_outflow, bc_symmetry, bc_rigid, bc_periodic, bc_velocity
   public :: bc_from_name, boundary_apply, boundary_walls, fill_ghosts
   public :: ghosts_all, ghosts_flow, ghosts_level_sets
+  public :: bc_names
 
   integer, parameter :: bc_outflow = 1, bc_symmetry = 2, bc_rigid = 3, bc_periodic = 4
   integer, parameter :: bc_velocity = 5
+  !> the deck's names (&domain bc_lo, bc_hi): name k stands for condition k
+  character(len=8), parameter :: bc_names(5) = [character(len=8) :: 'outflow', 'symmetry', &
+    'rigid', 'periodic', 'velocity']
 
   !> the sets of variables whose ghost cells fill_ghosts fills
   integer, parameter :: ghosts_all = 0          !< flow of every phase and the level sets
@@ -37,20 +42,10 @@ module m_boundary
 
 contains
 
+  !> The condition of a deck name (one of bc_names).
   integer function bc_from_name(name) result(k)
     character(len=*), intent(in) :: name
-    select case (trim(name))
-    case ('symmetry')
-      k = bc_symmetry
-    case ('rigid')
-      k = bc_rigid
-    case ('periodic')
-      k = bc_periodic
-    case ('velocity')
-      k = bc_velocity
-    case default
-      k = bc_outflow
-    end select
+    k = choice_index(bc_names, name, 'bc_from_name')
   end function bc_from_name
 
   !> What lies beyond side s (-1 low, +1 high) of direction d of block id at time t:

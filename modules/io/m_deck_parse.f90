@@ -41,7 +41,6 @@ contains
     integer, intent(out) :: n_groups
     character(len=:), allocatable, intent(out) :: err_group, err_what
     character(len=:), allocatable :: s, name, subscript, value
-    integer, allocatable :: line_start(:)
     integer :: n, p, q, after, close_at, value_end, name_at
     type(deck_assign_t) :: a
 
@@ -49,7 +48,7 @@ contains
     n_groups = 0
     err_group = ''
     err_what = ''
-    call strip_comments(text, s, line_start)
+    call strip_comments(text, s)
     n = len(s)
     p = 1
     outer: do
@@ -68,12 +67,7 @@ contains
         call syntax(p, "'&' without a group name")
         return
       end if
-      n_groups = n_groups + 1
-      if (n_groups > size(groups)) call grow_groups(groups)
-      groups(n_groups)%name = to_lower(s(p + 1:q - 1))
-      groups(n_groups)%line = line_of(p)
-      groups(n_groups)%n = 0
-      allocate(groups(n_groups)%assign(8))
+      call group_new(groups, n_groups, to_lower(s(p + 1:q - 1)), line_of(p))
       err_group = groups(n_groups)%name
       p = q
       body: do
@@ -154,29 +148,26 @@ contains
 
     integer function line_of(pos)
       integer, intent(in) :: pos
-      integer :: lo, hi, mid
-      lo = 1
-      hi = size(line_start)
-      do while (lo < hi)
-        mid = (lo + hi + 1) / 2
-        if (line_start(mid) <= pos) then
-          lo = mid
-        else
-          hi = mid - 1
-        end if
-      end do
-      line_of = lo
+      integer :: k
+      line_of = 1 + count([(s(k:k) == nl, k = 1, pos - 1)])
     end function line_of
 
+    !> line `line` of the text, fit to be echoed in a one-line message
     function line_text(line) result(t)
       integer, intent(in) :: line
       character(len=:), allocatable :: t
-      integer :: a0, b0
-      a0 = line_start(line)
-      b0 = len(text)
-      if (line < size(line_start)) b0 = line_start(line + 1) - 2
-      t = trim(adjustl(text(a0:max(a0 - 1, b0))))
-      t = clean_echo(t)
+      integer :: a0, k
+      a0 = 1
+      do k = 2, line
+        a0 = a0 + index(text(a0:), nl)
+      end do
+      t = text(a0:)
+      if (index(t, nl) > 0) t = t(1:index(t, nl) - 1)
+      t = trim(adjustl(t))
+      do k = 1, len(t)
+        if (iachar(t(k:k)) < 32 .or. iachar(t(k:k)) > 126) t(k:k) = '?'
+      end do
+      if (len(t) > 120) t = t(1:117) // '...'
     end function line_text
 
     subroutine syntax(pos, what)
@@ -235,34 +226,21 @@ contains
     call move_alloc(tmp, groups)
   end subroutine grow_groups
 
-  !> Copy of the text with comments, carriage returns and tabs blanked; line_start(k) is
-  !> the position of the first character of line k.
-  subroutine strip_comments(text, s, line_start)
+  !> Copy of the text with comments, carriage returns and tabs blanked.
+  subroutine strip_comments(text, s)
     character(len=*), intent(in) :: text
     character(len=:), allocatable, intent(out) :: s
-    integer, allocatable, intent(out) :: line_start(:)
     character(len=1) :: quote
-    integer :: i, n_lines
+    integer :: i
     logical :: in_comment
     s = text
-    n_lines = 1
-    do i = 1, len(s)
-      if (s(i:i) == nl) n_lines = n_lines + 1
-    end do
-    allocate(line_start(n_lines))
-    line_start(1) = 1
-    n_lines = 1
     quote = ' '
     in_comment = .false.
     do i = 1, len(s)
       if (s(i:i) == nl) then
-        n_lines = n_lines + 1
-        line_start(n_lines) = i + 1
         quote = ' '
         in_comment = .false.
-        cycle
-      end if
-      if (in_comment .or. s(i:i) == achar(13) .or. s(i:i) == achar(9)) then
+      else if (in_comment .or. s(i:i) == achar(13) .or. s(i:i) == achar(9)) then
         s(i:i) = ' '
       else if (quote /= ' ') then
         if (s(i:i) == quote) quote = ' '
@@ -348,17 +326,5 @@ contains
       if (t(i:i) /= ' ' .and. t(i:i) /= nl) r = r // t(i:i)
     end do
   end function compact
-
-  !> A line fit to be echoed inside a one-line message: printable and not too long.
-  function clean_echo(t) result(r)
-    character(len=*), intent(in) :: t
-    character(len=:), allocatable :: r
-    integer :: i
-    r = t
-    do i = 1, len(r)
-      if (iachar(r(i:i)) < 32 .or. iachar(r(i:i)) > 126) r(i:i) = '?'
-    end do
-    if (len(r) > 120) r = r(1:117) // '...'
-  end function clean_echo
 
 end module m_deck_parse

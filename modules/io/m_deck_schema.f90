@@ -1,130 +1,292 @@
-!> What a deck may hold (DESIGN section 6): its groups, and the variables of each with
-!> kind, size and a typical value; and the one-line error that names them,
+!> What a deck may hold (DESIGN section 6): the one table of deck variables, a line each
+!> (deck_table), and the one-line error that names them,
 !>   ERROR <deck file> &<group> <variable>: <reason> (typical value <example>).
-!> A deck's errors are gathered in one pass: fail() records a line and returns, so that
-!> the reader and the checks go on and find the other mistakes; deck_errors_stop() then
-!> prints every line and stops every rank (every rank parses the same text, so every rank
-!> holds the same lines). A variable that has had an error gets no second one (a bad value
-!> left at its default would otherwise also be "missing"). fail_now() is for an error after
-!> which nothing more can be read (a syntax error). The list is module state, emptied by
-!> deck_errors_begin() at the start of every deck read. It neither reads values (m_deck) nor
-!> judges what they mean (m_deck_check).
+!> A table line binds group and name to the config_t component (type, size and default
+!> come from the component, m_config), gives a typical value, the meaning and, for a
+!> keyword, its choices (the list its owner module exports, which that module's from_name
+!> maps). The reader, the resolved-deck writer and the checks' lookups all go through it.
+!> A deck's errors are gathered in one pass: fail() records a line and returns, so that the
+!> reading and the checks go on; deck_errors_stop() prints every line and stops every rank
+!> (every rank parses the same text, so every rank holds the same lines). A variable that
+!> has had an error gets no second one. fail_now() is for an error after which nothing more
+!> can be read. The list is module state, emptied by deck_errors_begin().
 module m_deck_schema
-  use m_kinds, only: name_len, path_len
-  use m_config, only: max_fields
+  use m_kinds, only: wp, name_len
+  use m_config, only: config_t, material_t, body_t
   use m_errors, only: stop_collective
-  use m_deck_text, only: to_lower
-  use m_deck_values, only: var_info_t
+  use m_deck_text, only: to_lower, joined
+  use m_deck_values, only: deck_var_t
+  use m_boundary, only: bc_names
+  use m_reconstruct, only: scheme_names
+  use m_flux, only: flux_names, scalar_flux_names
+  use m_gfm, only: probe_names
+  use m_eos, only: eos_names
+  use m_yield, only: strength_model_names
   implicit none
   private
-  public :: known_groups, run_vars, domain_vars, numerics_vars, physics_vars, material_vars, &
-    body_vars, output_vars
-  public :: fail, error_line, bad, group_vars, group_var, group_of, var_index
-  public :: fail_now, deck_errors_begin, deck_errors_stop, deck_error_count, deck_error_mark, &
-    deck_has_error
+  public :: deck_table, group_table, group_names, known_groups, var_index, group_of
+  public :: fail, fail_now, rule, error_line, deck_errors_begin, deck_errors_stop
+  public :: deck_error_count, deck_error_mark, deck_has_error
 
+  character(len=8), parameter :: group_names(7) = [character(len=8) :: 'run', 'domain', &
+    'numerics', 'physics', 'material', 'body', 'output']
   character(len=*), parameter :: known_groups = &
     'run, domain, numerics, physics, material, body, output'
-  type(var_info_t), parameter :: run_vars(7) = [ &
-    var_info_t('title', 'c', 1, 128, "'sod shock tube'"), &
-    var_info_t('t_end', 'r', 1, 0, '0.2'), &
-    var_info_t('max_steps', 'i', 1, 0, '10000'), &
-    var_info_t('wall_limit', 'r', 1, 0, '3600.0'), &
-    var_info_t('out_dir', 'c', 1, path_len, "'out/sod'"), &
-    var_info_t('overwrite', 'l', 1, 0, '.true.'), &
-    var_info_t('restart', 'c', 1, path_len, "'out/sod/chk_000100.h5'")]
-  type(var_info_t), parameter :: domain_vars(11) = [ &
-    var_info_t('ndim', 'i', 1, 0, '2'), &
-    var_info_t('geometry', 'c', 1, name_len, "'cartesian'"), &
-    var_info_t('lo', 'r', 3, 0, '0.0, 0.0, 0.0'), &
-    var_info_t('hi', 'r', 3, 0, '1.0, 0.5, 1.0'), &
-    var_info_t('cells', 'i', 3, 0, '200, 100, 1'), &
-    var_info_t('block', 'i', 3, 0, '50, 50, 1'), &
-    var_info_t('bc_lo', 'c', 3, name_len, "'symmetry', 'outflow', 'outflow'"), &
-    var_info_t('bc_hi', 'c', 3, name_len, "'outflow', 'outflow', 'outflow'"), &
-    var_info_t('bc_velocity', 'r', 3, 0, '100.0, 0.0, 0.0'), &
-    var_info_t('bc_rise_time', 'r', 1, 0, '1.0e-6'), &
-    var_info_t('base_material', 'c', 1, name_len, "'air'")]
-  type(var_info_t), parameter :: numerics_vars(12) = [ &
-    var_info_t('scheme', 'c', 1, name_len, "'eno3'"), &
-    var_info_t('flux', 'c', 1, name_len, "'hllc'"), &
-    var_info_t('scalar_flux', 'c', 1, name_len, "'upwind'"), &
-    var_info_t('surface_flux', 'c', 1, name_len, "'material'"), &
-    var_info_t('conserve', 'c', 1, name_len, "'mass_energy'"), &
-    var_info_t('rk_order', 'i', 1, 0, '3'), &
-    var_info_t('cfl', 'r', 1, 0, '0.5'), &
-    var_info_t('dt_max', 'r', 1, 0, '1.0e-7'), &
-    var_info_t('gfm_probe', 'c', 1, name_len, "'auto'"), &
-    var_info_t('reinit_every', 'i', 1, 0, '5'), &
-    var_info_t('band', 'i', 1, 0, '6'), &
-    var_info_t('contact_kappa', 'r', 1, 0, '1.0')]
-  type(var_info_t), parameter :: physics_vars(4) = [ &
-    var_info_t('strength', 'l', 1, 0, '.true.'), &
-    var_info_t('thermal', 'l', 1, 0, '.true.'), &
-    var_info_t('heat_conduction', 'l', 1, 0, '.false.'), &
-    var_info_t('reaction', 'l', 1, 0, '.false.')]
-  type(var_info_t), parameter :: material_vars(28) = [ &
-    var_info_t('name', 'c', 1, name_len, "'water'"), &
-    var_info_t('eos', 'c', 1, name_len, "'stiffened_gas'"), &
-    var_info_t('rho0', 'r', 1, 0, '1000.0'), &
-    var_info_t('p0', 'r', 1, 0, '1.0e5'), &
-    var_info_t('gamma', 'r', 1, 0, '1.4'), &
-    var_info_t('p_inf', 'r', 1, 0, '6.0e8'), &
-    var_info_t('c0', 'r', 1, 0, '3940.0'), &
-    var_info_t('s', 'r', 1, 0, '1.49'), &
-    var_info_t('gruneisen', 'r', 1, 0, '2.0'), &
-    var_info_t('cv', 'r', 1, 0, '717.5'), &
-    var_info_t('T0', 'r', 1, 0, '293.15'), &
-    var_info_t('bulk_modulus', 'r', 1, 0, '12.5e9'), &
-    var_info_t('poly_a', 'r', 1, 0, '22.0e9'), &
-    var_info_t('poly_b', 'r', 1, 0, '15.0e9'), &
-    var_info_t('strength_model', 'c', 1, name_len, "'johnson_cook'"), &
-    var_info_t('shear_modulus', 'r', 1, 0, '43.33e9'), &
-    var_info_t('yield0', 'r', 1, 0, '0.4e9'), &
-    var_info_t('hardening_modulus', 'r', 1, 0, '0.1e9'), &
-    var_info_t('jc_b', 'r', 1, 0, '0.177e9'), &
-    var_info_t('jc_n', 'r', 1, 0, '1.0'), &
-    var_info_t('jc_c', 'r', 1, 0, '0.025'), &
-    var_info_t('jc_m', 'r', 1, 0, '1.09'), &
-    var_info_t('t_melt', 'r', 1, 0, '1358.0'), &
-    var_info_t('eps_rate0', 'r', 1, 0, '1.0'), &
-    var_info_t('vp_chi', 'r', 1, 0, '1.08'), &
-    var_info_t('vp_m', 'r', 1, 0, '-0.79'), &
-    var_info_t('vp_n', 'r', 1, 0, '1.58'), &
-    var_info_t('taylor_quinney', 'r', 1, 0, '0.9')]
-  type(var_info_t), parameter :: body_vars(15) = [ &
-    var_info_t('name', 'c', 1, name_len, "'projectile'"), &
-    var_info_t('material', 'c', 1, name_len, "'copper'"), &
-    var_info_t('shape', 'c', 1, name_len, "'sphere'"), &
-    var_info_t('center', 'r', 3, 0, '0.5, 0.5, 0.0'), &
-    var_info_t('radius', 'r', 1, 0, '0.1'), &
-    var_info_t('length', 'r', 1, 0, '0.2'), &
-    var_info_t('axis', 'r', 3, 0, '0.0, 0.0, 1.0'), &
-    var_info_t('lo', 'r', 3, 0, '0.0, 0.0, 0.0'), &
-    var_info_t('hi', 'r', 3, 0, '0.5, 1.0, 1.0'), &
-    var_info_t('velocity', 'r', 3, 0, '1000.0, 0.0, 0.0'), &
-    var_info_t('rho', 'r', 1, 0, '1000.0'), &
-    var_info_t('p', 'r', 1, 0, '1.0e5'), &
-    var_info_t('T', 'r', 1, 0, '300.0'), &
-    var_info_t('amplitude', 'r', 1, 0, '0.2'), &
-    var_info_t('wavevector', 'r', 3, 0, '1.0, 0.0, 0.0')]
-  type(var_info_t), parameter :: output_vars(5) = [ &
-    var_info_t('plot_dt', 'r', 1, 0, '1.0e-3'), &
-    var_info_t('plot_every', 'i', 1, 0, '100'), &
-    var_info_t('checkpoint_every', 'i', 1, 0, '1000'), &
-    var_info_t('history_every', 'i', 1, 0, '10'), &
-    var_info_t('fields', 'c', max_fields, name_len, "'rho', 'u', 'p'")]
+  ! the choices that no module maps to constants (they are compared as names)
+  character(len=12), parameter :: geometry_names(2) = [character(len=12) :: 'cartesian', &
+    'axisymmetric']
+  character(len=8), parameter :: surface_flux_names(2) = [character(len=8) :: 'material', &
+    'llf']
+  character(len=11), parameter :: conserve_names(3) = [character(len=11) :: 'mass_energy', &
+    'mass', 'none']
+  character(len=10), parameter :: shape_names(4) = [character(len=10) :: 'box', 'sphere', &
+    'cylinder', 'half_space']
 
-  !> the deck errors found so far (lines), and the variables they name ('&group var',
-  !> without an index), which get no second error
-  character(len=:), allocatable :: err_text
-  character(len=:), allocatable :: err_keys
+  !> the table being built: its lines so far and the group they belong to
+  type :: table_t
+    character(len=8) :: g = ''
+    integer :: n = 0
+    type(deck_var_t) :: v(96)
+  contains
+    procedure, private :: add_r, add_ra, add_i, add_ia, add_l, add_c, add_ca
+    generic :: add => add_r, add_ra, add_i, add_ia, add_l, add_c, add_ca
+  end type table_t
+
+  ! what group_table binds to (its lines are read for their names, kinds and typical values)
+  type(config_t), target, save :: proto
+  ! the errors found so far (lines), and the variables they name ('&group var')
+  character(len=:), allocatable :: err_base, err_text, err_keys
   integer :: n_errors = 0
 
 contains
 
-  !> Start a deck read with no errors.
-  subroutine deck_errors_begin()
+  !> THE TABLE: every deck variable, in the order of the resolved deck, bound to c (to m
+  !> for &material, b for &body): name, component, typical value, meaning [, choices of a
+  !> keyword; .true.: it may be left empty]. A new variable is a component in m_config, a
+  !> line here and its rules in m_deck_check.
+  subroutine deck_table(c, m, b, vars)
+    type(config_t), target, intent(inout) :: c
+    type(material_t), target, intent(inout) :: m
+    type(body_t), target, intent(inout) :: b
+    type(deck_var_t), allocatable, intent(out) :: vars(:)
+    type(table_t) :: t
+    t%g = 'run'
+    call t%add('title', c%title, "'sod shock tube'", 'title of the run (run.log)')
+    call t%add('t_end', c%t_end, '0.2', 'end time (s); or give max_steps')
+    call t%add('max_steps', c%max_steps, '10000', 'most time steps')
+    call t%add('wall_limit', c%wall_limit, '3600.0', 'wall-clock seconds, then checkpoint; 0 off')
+    call t%add('out_dir', c%out_dir, "'out/sod'", 'output folder')
+    call t%add('overwrite', c%overwrite, '.true.', 'replace results already in out_dir')
+    call t%add('restart', c%restart, "'out/sod/chk_000100.h5'", 'checkpoint to continue')
+    t%g = 'domain'
+    call t%add('ndim', c%ndim, '2', 'number of dimensions, 1 to 3')
+    call t%add('geometry', c%geometry, "'cartesian'", 'axisymmetric: x = r, y = z', &
+      geometry_names)
+    call t%add('lo', c%lo, '0.0, 0.0, 0.0', 'low corner of the domain (m)')
+    call t%add('hi', c%hi, '1.0, 0.5, 1.0', 'high corner of the domain (m)')
+    call t%add('cells', c%cells, '200, 100, 1', 'cells along each direction')
+    call t%add('block', c%block, '50, 50, 1', 'cells of a block along each direction (0 chosen)')
+    call t%add('bc_lo', c%bc_lo, "'symmetry', 'outflow', 'outflow'", 'condition on the low sides', &
+      bc_names)
+    call t%add('bc_hi', c%bc_hi, "'outflow', 'outflow', 'outflow'", 'condition on the high sides', &
+      bc_names)
+    call t%add('bc_velocity', c%bc_velocity, '100.0, 0.0, 0.0', "normal velocity, 'velocity' sides")
+    call t%add('bc_rise_time', c%bc_rise_time, '1.0e-6', 'linear ramp of bc_velocity from t = 0')
+    call t%add('base_material', c%base_material, "'air'", "what fills the domain, or 'void'")
+    t%g = 'numerics'
+    call t%add('scheme', c%scheme, "'eno3'", 'reconstruction (empty: m_numerics_defaults)', &
+      scheme_names, .true.)
+    call t%add('flux', c%flux, "'hllc'", 'flux of the Euler equations (empty: chosen)', &
+      flux_names, .true.)
+    call t%add('scalar_flux', c%scalar_flux, "'upwind'", 'solids: flux of rho eps_p, rho w_c', &
+      scalar_flux_names, .true.)
+    call t%add('surface_flux', c%surface_flux, "'material'", 'S, eps_p, w_c at a surface face', &
+      surface_flux_names)
+    call t%add('conserve', c%conserve, "'mass_energy'", 'what the conservation fix returns', &
+      conserve_names)
+    call t%add('rk_order', c%rk_order, '3', 'Runge-Kutta order, 1 to 3')
+    call t%add('cfl', c%cfl, '0.5', 'Courant number')
+    call t%add('dt_max', c%dt_max, '1.0e-7', 'cap on dt (s), optional')
+    call t%add('gfm_probe', c%gfm_probe, "'auto'", 'ghost-fluid probe', probe_names)
+    call t%add('reinit_every', c%reinit_every, '5', 'steps between level-set reinitialisations')
+    call t%add('band', c%band, '6', 'ghost band (cells)')
+    call t%add('contact_kappa', c%contact_kappa, '1.0', 'closer than 2 kappa dx is contact')
+    t%g = 'physics'
+    call t%add('strength', c%strength, '.true.', 'strength (left out: when a material needs it)')
+    call t%add('thermal', c%thermal, '.true.', 'plastic heating, softening (likewise)')
+    call t%add('heat_conduction', c%heat_conduction, '.false.', 'not built yet')
+    call t%add('reaction', c%reaction, '.false.', 'not built yet')
+    t%g = 'material'
+    call t%add('name', m%name, "'water'", 'name; a library entry of that name is the start')
+    call t%add('eos', m%eos, "'stiffened_gas'", 'equation of state', eos_names, .true.)
+    call t%add('rho0', m%rho0, '1000.0', 'reference density (kg/m3)')
+    call t%add('p0', m%p0, '1.0e5', 'reference (initial) pressure (Pa)')
+    call t%add('gamma', m%gamma, '1.4', 'ratio of specific heats (gases)')
+    call t%add('p_inf', m%p_inf, '6.0e8', 'stiffening pressure (Pa)')
+    call t%add('c0', m%c0, '3940.0', 'Mie-Gruneisen bulk sound speed (m/s)')
+    call t%add('s', m%s, '1.49', 'Mie-Gruneisen Us-up slope')
+    call t%add('gruneisen', m%gruneisen, '2.0', 'Gruneisen Gamma0')
+    call t%add('cv', m%cv, '717.5', 'specific heat at constant volume (J/kg K)')
+    call t%add('T0', m%T0, '293.15', 'reference temperature (K)')
+    call t%add('bulk_modulus', m%bulk_modulus, '12.5e9', 'polynomial Mie-Gruneisen K (Pa)')
+    call t%add('poly_a', m%poly_a, '22.0e9', 'polynomial Mie-Gruneisen A (Pa)')
+    call t%add('poly_b', m%poly_b, '15.0e9', 'polynomial Mie-Gruneisen B (Pa)')
+    call t%add('strength_model', m%strength_model, "'johnson_cook'", 'strength (empty: none)', &
+      strength_model_names, .true.)
+    call t%add('shear_modulus', m%shear_modulus, '43.33e9', 'shear modulus G (Pa)')
+    call t%add('yield0', m%yield0, '0.4e9', 'initial yield stress; Johnson-Cook A (Pa)')
+    call t%add('hardening_modulus', m%hardening_modulus, '0.1e9', 'H = d sigma_y / d eps_p (Pa)')
+    call t%add('jc_b', m%jc_b, '0.177e9', 'Johnson-Cook B (Pa)')
+    call t%add('jc_n', m%jc_n, '1.0', 'Johnson-Cook n')
+    call t%add('jc_c', m%jc_c, '0.025', 'Johnson-Cook C')
+    call t%add('jc_m', m%jc_m, '1.09', 'Johnson-Cook m')
+    call t%add('t_melt', m%t_melt, '1358.0', 'melt temperature (K): no strength above')
+    call t%add('eps_rate0', m%eps_rate0, '1.0', 'reference plastic strain rate (1/s)')
+    call t%add('vp_chi', m%vp_chi, '1.08', 'power law rate = chi eps_rate^m sigma^n (MPa^-n)')
+    call t%add('vp_m', m%vp_m, '-0.79', 'power law m')
+    call t%add('vp_n', m%vp_n, '1.58', 'power law n')
+    call t%add('taylor_quinney', m%taylor_quinney, '0.9', 'share of plastic work that heats')
+    t%g = 'body'
+    call t%add('name', b%name, "'projectile'", 'name (empty: body<k>)')
+    call t%add('material', b%material, "'copper'", "a material, 'void' or 'rigid'")
+    call t%add('shape', b%shape, "'sphere'", 'shape', shape_names, .true.)
+    call t%add('center', b%center, '0.5, 0.5, 0.0', 'centre; a point of a half_space (m)')
+    call t%add('radius', b%radius, '0.1', 'radius of a sphere or cylinder (m)')
+    call t%add('length', b%length, '0.2', 'length of a cylinder (m)')
+    call t%add('axis', b%axis, '0.0, 0.0, 1.0', 'cylinder axis; outward normal of a half_space')
+    call t%add('lo', b%lo, '0.0, 0.0, 0.0', 'low corner of a box (m)')
+    call t%add('hi', b%hi, '0.5, 1.0, 1.0', 'high corner of a box (m)')
+    call t%add('velocity', b%velocity, '1000.0, 0.0, 0.0', 'initial velocity (m/s)')
+    call t%add('rho', b%rho, '1000.0', "initial density (unset: the material's rho0)")
+    call t%add('p', b%p, '1.0e5', "initial pressure (unset: the material's p0)")
+    call t%add('T', b%T, '300.0', 'initial temperature instead of p (K)')
+    call t%add('amplitude', b%amplitude, '0.2', 'rho (1 + amplitude sin(2 pi k.x))')
+    call t%add('wavevector', b%wavevector, '1.0, 0.0, 0.0', 'k of that perturbation (1/m)')
+    t%g = 'output'
+    call t%add('plot_dt', c%plot_dt, '1.0e-3', 'time between plots (s); 0: the final one')
+    call t%add('plot_every', c%plot_every, '100', 'steps between plots; 0 off')
+    call t%add('checkpoint_every', c%checkpoint_every, '1000', 'steps; 0: at wall_limit only')
+    call t%add('history_every', c%history_every, '10', 'steps between history.csv lines')
+    call t%add('fields', c%fields, "'rho', 'u', 'p'", 'plot fields (empty: a standard list)')
+    t%v(t%n)%count => c%n_fields
+    allocate(vars, source=t%v(1:t%n))
+  end subroutine deck_table
+
+  !> The lines of group gname, bound to a configuration kept for the purpose.
+  function group_table(gname) result(vars)
+    character(len=*), intent(in) :: gname
+    type(deck_var_t), allocatable :: vars(:), every(:)
+    call deck_table(proto, proto%materials(1), proto%bodies(1), every)
+    vars = pack(every, every%group == gname)
+  end function group_table
+
+  integer function var_index(vars, name) result(k)
+    type(deck_var_t), intent(in) :: vars(:)
+    character(len=*), intent(in) :: name
+    do k = 1, size(vars)
+      if (to_lower(trim(vars(k)%name)) == name) return
+    end do
+    k = 0
+  end function var_index
+
+  !> The first other group that knows a variable called name, or ''.
+  function group_of(name, except) result(r)
+    character(len=*), intent(in) :: name, except
+    character(len=:), allocatable :: r
+    integer :: k
+    do k = 1, size(group_names)
+      r = trim(group_names(k))
+      if (r == except) cycle
+      if (var_index(group_table(r), name) > 0) return
+    end do
+    r = ''
+  end function group_of
+
+  subroutine push(t, name, kind, size, clen, typical, meaning)
+    class(table_t), intent(inout) :: t
+    character(len=*), intent(in) :: name, kind, typical, meaning
+    integer, intent(in) :: size, clen
+    t%n = t%n + 1
+    t%v(t%n) = deck_var_t(group=t%g, name=name, kind=kind, size=size, clen=clen, &
+      typical=typical, meaning=meaning)
+  end subroutine push
+
+  subroutine add_r(t, name, x, typical, meaning)
+    class(table_t), intent(inout) :: t
+    character(len=*), intent(in) :: name, typical, meaning
+    real(wp), target, intent(inout) :: x
+    call push(t, name, 'r', 1, 0, typical, meaning)
+    t%v(t%n)%r => x
+  end subroutine add_r
+
+  subroutine add_ra(t, name, x, typical, meaning)
+    class(table_t), intent(inout) :: t
+    character(len=*), intent(in) :: name, typical, meaning
+    real(wp), target, intent(inout) :: x(:)
+    call push(t, name, 'r', size(x), 0, typical, meaning)
+    t%v(t%n)%ra => x
+  end subroutine add_ra
+
+  subroutine add_i(t, name, x, typical, meaning)
+    class(table_t), intent(inout) :: t
+    character(len=*), intent(in) :: name, typical, meaning
+    integer, target, intent(inout) :: x
+    call push(t, name, 'i', 1, 0, typical, meaning)
+    t%v(t%n)%i => x
+  end subroutine add_i
+
+  subroutine add_ia(t, name, x, typical, meaning)
+    class(table_t), intent(inout) :: t
+    character(len=*), intent(in) :: name, typical, meaning
+    integer, target, intent(inout) :: x(:)
+    call push(t, name, 'i', size(x), 0, typical, meaning)
+    t%v(t%n)%ia => x
+  end subroutine add_ia
+
+  subroutine add_l(t, name, x, typical, meaning)
+    class(table_t), intent(inout) :: t
+    character(len=*), intent(in) :: name, typical, meaning
+    logical, target, intent(inout) :: x
+    call push(t, name, 'l', 1, 0, typical, meaning)
+    t%v(t%n)%l => x
+  end subroutine add_l
+
+  !> A string; with choices a keyword (lower-cased, one of them; empty too when optional).
+  subroutine add_c(t, name, x, typical, meaning, choices, empty_ok)
+    class(table_t), intent(inout) :: t
+    character(len=*), intent(in) :: name, typical, meaning
+    character(len=*), target, intent(inout) :: x
+    character(len=*), intent(in), optional :: choices(:)
+    logical, intent(in), optional :: empty_ok
+    call push(t, name, 'c', 1, len(x), typical, meaning)
+    t%v(t%n)%c => x
+    call keyword(t%v(t%n), choices, empty_ok)
+  end subroutine add_c
+
+  subroutine add_ca(t, name, x, typical, meaning, choices)
+    class(table_t), intent(inout) :: t
+    character(len=*), intent(in) :: name, typical, meaning
+    character(len=name_len), target, intent(inout) :: x(:)
+    character(len=*), intent(in), optional :: choices(:)
+    call push(t, name, 'c', size(x), len(x), typical, meaning)
+    t%v(t%n)%ca => x
+    call keyword(t%v(t%n), choices)
+  end subroutine add_ca
+
+  subroutine keyword(v, choices, empty_ok)
+    type(deck_var_t), intent(inout) :: v
+    character(len=*), intent(in), optional :: choices(:)
+    logical, intent(in), optional :: empty_ok
+    if (.not. present(choices)) return
+    v%kind = 'k'
+    v%choices = joined(choices)
+    if (present(empty_ok)) v%empty_ok = empty_ok
+  end subroutine keyword
+
+  !> Start reading the deck called base (the name in every error line) with no errors.
+  subroutine deck_errors_begin(base)
+    character(len=*), intent(in) :: base
+    err_base = base
     err_text = ''
     err_keys = '|'
     n_errors = 0
@@ -132,48 +294,43 @@ contains
 
   !> Record `ERROR <base> <where>: <why> (typical value <typical>)` and return, unless the
   !> variable of `where` has had an error already.
-  subroutine fail(base, where, why, typical)
-    character(len=*), intent(in) :: base, where, why, typical
-    if (.not. allocated(err_text)) call deck_errors_begin()
+  subroutine fail(where, why, typical)
+    character(len=*), intent(in) :: where, why, typical
     if (deck_has_error(where)) return
     call deck_error_mark(where)
     if (n_errors > 0) err_text = err_text // new_line('a')
-    err_text = err_text // error_line(base, where, why, typical)
+    err_text = err_text // error_line(err_base, where, why, typical)
     n_errors = n_errors + 1
   end subroutine fail
 
   !> fail(), then stop every rank with every error found so far.
-  subroutine fail_now(base, where, why, typical)
-    character(len=*), intent(in) :: base, where, why, typical
-    call fail(base, where, why, typical)
+  subroutine fail_now(where, why, typical)
+    character(len=*), intent(in) :: where, why, typical
+    call fail(where, why, typical)
     call deck_errors_stop()
   end subroutine fail_now
 
   !> Collective: when errors were found, print them, one a line, and stop every rank.
   subroutine deck_errors_stop()
-    if (.not. allocated(err_text)) return
-    call stop_collective(err_text, n_errors == 0)
+    if (allocated(err_text)) call stop_collective(err_text, n_errors == 0)
   end subroutine deck_errors_stop
 
   integer function deck_error_count() result(n)
     n = n_errors
   end function deck_error_count
 
-  !> '&group var' of where (an index or a trailing word dropped), or '' outside a group.
+  !> '&group var' of where (an index dropped), or '' outside a group.
   function error_key(where) result(key)
     character(len=*), intent(in) :: where
     character(len=:), allocatable :: key
-    integer :: paren
     key = to_lower(trim(adjustl(where)))
-    paren = index(key, '(')
-    if (paren > 0) key = key(1:paren - 1)
+    if (index(key, '(') > 0) key = key(1:index(key, '(') - 1)
   end function error_key
 
   !> Take the variable of where ('&group var') as wrong: it gets no error of its own later.
   !> '&group *' takes every variable of the group (a group missing or misspelled).
   subroutine deck_error_mark(where)
     character(len=*), intent(in) :: where
-    if (.not. allocated(err_keys)) call deck_errors_begin()
     if (index(error_key(where), ' ') == 0) return
     if (.not. deck_has_error(where)) err_keys = err_keys // error_key(where) // '|'
   end subroutine deck_error_mark
@@ -184,7 +341,6 @@ contains
     character(len=:), allocatable :: key
     integer :: blank
     has = .false.
-    if (.not. allocated(err_keys)) return
     key = error_key(where)
     blank = index(key, ' ')
     if (blank == 0) return
@@ -203,70 +359,22 @@ contains
     if (len_trim(typical) > 0) line = line // ' (typical value ' // trim(typical) // ')'
   end function error_line
 
-  !> fail() for variable vname (possibly with an index) of group gname, with its typical
-  !> value from the tables.
-  subroutine bad(base, gname, vname, why)
-    character(len=*), intent(in) :: base, gname, vname, why
-    type(var_info_t) :: info
-    integer :: k, paren
-    paren = index(vname // '(', '(')
-    k = var_index(group_vars(gname), to_lower(vname(1:paren - 1)))
-    info = var_info_t()
-    if (k > 0) info = group_var(gname, k)
-    call fail(base, '&' // gname // ' ' // vname, why, info%typical)
-  end subroutine bad
-
-  function group_vars(gname) result(vars)
-    character(len=*), intent(in) :: gname
-    type(var_info_t), allocatable :: vars(:)
-    select case (gname)
-    case ('run')
-      allocate(vars, source=run_vars)
-    case ('domain')
-      allocate(vars, source=domain_vars)
-    case ('numerics')
-      allocate(vars, source=numerics_vars)
-    case ('physics')
-      allocate(vars, source=physics_vars)
-    case ('material')
-      allocate(vars, source=material_vars)
-    case ('body')
-      allocate(vars, source=body_vars)
-    case default
-      allocate(vars, source=output_vars)
-    end select
-  end function group_vars
-
-  type(var_info_t) function group_var(gname, k) result(info)
-    character(len=*), intent(in) :: gname
-    integer, intent(in) :: k
-    type(var_info_t), allocatable :: vars(:)
-    allocate(vars, source=group_vars(gname))
-    info = vars(k)
-  end function group_var
-
-  !> The first other group that knows a variable called name, or ''.
-  function group_of(name, except) result(r)
-    character(len=*), intent(in) :: name, except
-    character(len=:), allocatable :: r
-    character(len=8), parameter :: order(7) = [character(len=8) :: 'run', 'domain', &
-      'numerics', 'physics', 'material', 'body', 'output']
-    integer :: k
-    do k = 1, size(order)
-      r = trim(order(k))
-      if (r == except) cycle
-      if (var_index(group_vars(r), name) > 0) return
-    end do
-    r = ''
-  end function group_of
-
-  integer function var_index(vars, name) result(k)
-    type(var_info_t), intent(in) :: vars(:)
-    character(len=*), intent(in) :: name
-    do k = 1, size(vars)
-      if (to_lower(trim(vars(k)%name)) == name) return
-    end do
-    k = 0
-  end function var_index
+  !> One rule of the deck: when `prohibited` holds, the variable var ('group name', with an
+  !> index maybe) is refused for the reason why, with its typical value from the table.
+  subroutine rule(prohibited, var, why)
+    logical, intent(in) :: prohibited
+    character(len=*), intent(in) :: var, why
+    type(deck_var_t), allocatable :: vars(:)
+    integer :: blank, k
+    if (.not. prohibited) return
+    blank = index(var // ' ', ' ')
+    vars = group_table(var(1:blank - 1))
+    k = var_index(vars, to_lower(var(blank + 1:index(var // '(', '(') - 1)))
+    if (k > 0) then
+      call fail('&' // var, why, vars(k)%typical)
+    else
+      call fail('&' // var, why, '')
+    end if
+  end subroutine rule
 
 end module m_deck_schema

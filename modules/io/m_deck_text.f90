@@ -9,7 +9,7 @@ module m_deck_text
   implicit none
   private
   public :: to_lower, edit_distance, int_text, real_text, quoted, shell_quoted, unquote
-  public :: string_end, is_digit, in_list, base_name, dir_name, normal_path
+  public :: string_end, is_digit, in_list, joined, base_name, dir_name, normal_path
 
   character(len=1), parameter :: nl = achar(10)
 
@@ -181,6 +181,17 @@ contains
     character(len=*), intent(in) :: word, list
     in_list = len_trim(word) > 0 .and. index(', ' // list // ',', ', ' // trim(word) // ',') > 0
   end function in_list
+
+  !> The items of a list as one text 'a, b, c'.
+  function joined(items) result(r)
+    character(len=*), intent(in) :: items(:)
+    character(len=:), allocatable :: r
+    integer :: k
+    r = trim(items(1))
+    do k = 2, size(items)
+      r = r // ', ' // trim(items(k))
+    end do
+  end function joined
 
   !> The last component of a path ('decks/sod.nml' -> 'sod.nml').
   function base_name(path) result(r)

@@ -1,49 +1,60 @@
-!> The check of one value text against the variable it is meant for (DESIGN section 6):
-!> index syntax and range, the number of values (r*c repeats included) and the form of each
-!> constant: an integer or a real that fits, a logical, a quoted string no longer than the
-!> variable. gfortran's own namelist reader accepts `3` for a string, `1` for a logical and
-!> `1e999` for a real (which then traps), hence this check before every READ. It describes
-!> a variable (var_info_t) but holds no table of them (m_deck_schema), and never stops the
-!> run: it returns the reason a value is refused.
+!> One deck variable and its value texts (DESIGN section 6): deck_var_t describes a variable
+!> of m_deck_schema's table and points at the configuration component it stands for;
+!> check_value says why a value text cannot be assigned to it (index syntax and range, the
+!> number of values, r*c repeats included, the form of each constant: an integer or a real
+!> that fits, a logical, a quoted string no longer than the variable; gfortran's own reader
+!> accepts `3` for a string, `1` for a logical and `1e999` for a real, which then traps);
+!> read_value reads a checked text into the component, value_text writes the component back
+!> as deck text. It holds no table (m_deck_schema) and never stops the run.
 module m_deck_values
-  use m_deck_text, only: to_lower, int_text, unquote, string_end, is_digit
+  use m_kinds, only: wp, name_len
+  use m_config, only: is_set
+  use m_deck_text, only: to_lower, int_text, real_text, quoted, unquote, string_end, is_digit
   implicit none
   private
-  public :: var_info_t, check_value
+  public :: deck_var_t, check_value, read_value, value_text
 
-  !> What a deck variable is: kind 'c' (string), 'i', 'r' or 'l'; size 1 for a scalar;
-  !> clen the length of a string variable; typical an example value for error messages.
-  type :: var_info_t
+  !> group and name; kind 'r' real, 'i' integer, 'l' logical, 'c' string or 'k' keyword (a
+  !> string lower-cased when read, one of `choices`, or empty when `empty_ok`); size (1 for
+  !> a scalar), the length of a string, a typical value for the messages, the meaning; the
+  !> component read and written (one pointer associated, by type and rank) and, for a list
+  !> that is written only as far as it is used, the count of its entries.
+  type :: deck_var_t
+    character(len=8) :: group = ''
     character(len=24) :: name = ''
     character(len=1) :: kind = 'r'
-    integer :: size = 1
-    integer :: clen = 0
+    integer :: size = 1, clen = 0
     character(len=48) :: typical = ''
-  end type var_info_t
+    character(len=:), allocatable :: choices, meaning
+    logical :: empty_ok = .false.
+    real(wp), pointer :: r => null(), ra(:) => null()
+    integer, pointer :: i => null(), ia(:) => null()
+    logical, pointer :: l => null()
+    character(len=:), pointer :: c => null()
+    character(len=name_len), pointer :: ca(:) => null()
+    integer, pointer :: count => null()
+  end type deck_var_t
 
 contains
 
-  !> Why `subscript` and `value` cannot be assigned to a variable described by info, or ''
-  !> when they can: index syntax and range, number of values, and the form of each value.
-  function check_value(info, subscript, value) result(why)
-    type(var_info_t), intent(in) :: info
+  !> Why `subscript` and `value` cannot be assigned to v, or '' when they can.
+  function check_value(v, subscript, value) result(why)
+    type(deck_var_t), intent(in) :: v
     character(len=*), intent(in) :: subscript, value
-    character(len=:), allocatable :: why
-    character(len=:), allocatable :: item, constant
+    character(len=:), allocatable :: why, item, constant
     integer :: first, last, room, count, p, star, repeat, ios
-
     why = ''
     first = 1
-    last = info%size
+    last = v%size
     if (len(subscript) > 0) then
-      if (info%size == 1) then
+      if (v%size == 1) then
         why = 'is not an array: remove ' // subscript
         return
       end if
       call parse_index(subscript, first, last, why)
       if (len(why) > 0) return
-      if (first < 1 .or. last > info%size .or. first > last) then
-        why = 'index ' // subscript // ' out of range 1..' // int_text(info%size)
+      if (first < 1 .or. last > v%size .or. first > last) then
+        why = 'index ' // subscript // ' out of range 1..' // int_text(v%size)
         return
       end if
     end if
@@ -57,40 +68,29 @@ contains
       constant = item
       star = index_of_star(item)
       if (star > 0) then
-        if (star > 10 .or. .not. all_digits(item(1:star - 1))) then
-          why = 'bad repeat count in ' // item
-          return
-        end if
-        read(item(1:star - 1), *, iostat=ios) repeat
-        if (ios /= 0 .or. repeat < 1) then
-          why = 'bad repeat count in ' // item
-          return
-        end if
+        ios = 1
+        if (star <= 10 .and. all_digits(item(1:star - 1))) &
+          read(item(1:star - 1), *, iostat=ios) repeat
+        if (ios /= 0 .or. repeat < 1) why = 'bad repeat count in ' // item
+        if (len(why) > 0) return
         constant = item(star + 1:)
       end if
       count = count + repeat
-      if (count > room) then
-        if (room == 1) then
-          why = 'takes one value, got more: ' // value
-        else
-          why = 'too many values (at most ' // int_text(room) // '): ' // value
-        end if
-        return
-      end if
-      if (len(constant) > 0) then
-        why = check_constant(info, constant)
-        if (len(why) > 0) return
-      end if
+      if (count > room .and. room == 1) why = 'takes one value, got more: ' // value
+      if (count > room .and. room > 1) why = 'too many values (at most ' // int_text(room) &
+        // '): ' // value
+      if (len(constant) > 0 .and. len(why) == 0) why = check_constant(v, constant)
+      if (len(why) > 0) return
     end do
     if (count == 0) why = 'no value given'
   end function check_value
 
-  function check_constant(info, c) result(why)
-    type(var_info_t), intent(in) :: info
+  function check_constant(v, c) result(why)
+    type(deck_var_t), intent(in) :: v
     character(len=*), intent(in) :: c
     character(len=:), allocatable :: why
     why = ''
-    select case (info%kind)
+    select case (v%kind)
     case ('i')
       if (.not. integer_form(c)) then
         why = 'expected an integer, got ' // c
@@ -109,14 +109,64 @@ contains
       case default
         why = 'expected .true. or .false., got ' // c
       end select
-    case ('c')
+    case default
       if (c(1:1) /= "'" .and. c(1:1) /= '"') then
         why = "expected a quoted string such as 'abc', got " // c
-      else if (len(unquote(c)) > info%clen) then
-        why = 'string longer than ' // int_text(info%clen) // ' characters: ' // c
+      else if (len(unquote(c)) > v%clen) then
+        why = 'string longer than ' // int_text(v%clen) // ' characters: ' // c
       end if
     end select
   end function check_constant
+
+  !> Read a value text that check_value has passed into the elements `subscript` of v's
+  !> component (list-directed, as a namelist would: r*c repeats, null values keep what is
+  !> there, and so do the elements after the last value); keywords are lower-cased.
+  subroutine read_value(v, subscript, value, ios, msg)
+    type(deck_var_t), intent(in) :: v
+    character(len=*), intent(in) :: subscript, value
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    character(len=:), allocatable :: t, why
+    integer :: lo, hi
+    lo = 1
+    hi = v%size
+    if (len(subscript) > 0) call parse_index(subscript, lo, hi, why)
+    t = value // ' /'
+    ios = 0
+    if (associated(v%r)) read(t, *, iostat=ios, iomsg=msg) v%r
+    if (associated(v%ra)) read(t, *, iostat=ios, iomsg=msg) v%ra(lo:hi)
+    if (associated(v%i)) read(t, *, iostat=ios, iomsg=msg) v%i
+    if (associated(v%ia)) read(t, *, iostat=ios, iomsg=msg) v%ia(lo:hi)
+    if (associated(v%l)) read(t, *, iostat=ios, iomsg=msg) v%l
+    if (associated(v%c)) read(t, *, iostat=ios, iomsg=msg) v%c
+    if (associated(v%ca)) read(t, *, iostat=ios, iomsg=msg) v%ca(lo:hi)
+    if (v%kind /= 'k') return
+    if (associated(v%c)) v%c = to_lower(v%c)
+    if (associated(v%ca)) v%ca = to_lower(v%ca)
+  end subroutine read_value
+
+  !> v's component as deck text ('' for a real left unset); a list with a count is written
+  !> as far as it is used (one entry at least).
+  function value_text(v) result(t)
+    type(deck_var_t), intent(in) :: v
+    character(len=:), allocatable :: t
+    integer :: k, n
+    t = ''
+    if (associated(v%r)) then
+      if (is_set(v%r)) t = real_text(v%r)
+    end if
+    if (associated(v%i)) t = int_text(v%i)
+    if (associated(v%l)) t = trim(merge('.true. ', '.false.', v%l))
+    if (associated(v%c)) t = quoted(v%c)
+    n = v%size
+    if (associated(v%count)) n = max(v%count, 1)
+    do k = 1, n
+      if (k > 1) t = t // ', '
+      if (associated(v%ra)) t = t // real_text(v%ra(k))
+      if (associated(v%ia)) t = t // int_text(v%ia(k))
+      if (associated(v%ca)) t = t // quoted(v%ca(k))
+    end do
+  end function value_text
 
   !> The next value item of a value text from position p (a constant, r*constant, r* or a
   !> null value between two commas); p = -1 when there is none left.
@@ -126,10 +176,7 @@ contains
     character(len=:), allocatable, intent(out) :: item
     integer :: q, e
     item = ''
-    do while (p <= len(value))
-      if (value(p:p) /= ' ') exit
-      p = p + 1
-    end do
+    p = skip_blanks(value, p)
     if (p > len(value)) then
       p = -1
       return
@@ -144,21 +191,26 @@ contains
       if (value(q:q) == "'" .or. value(q:q) == '"') then
         e = string_end(value, q)
         if (e == 0) e = len(value)
-        q = e + 1
-        cycle
+        q = e
       end if
       q = q + 1
     end do
     item = value(p:q - 1)
-    p = q
-    do while (p <= len(value))
-      if (value(p:p) /= ' ') exit
-      p = p + 1
-    end do
+    p = skip_blanks(value, q)
     if (p <= len(value)) then
       if (value(p:p) == ',') p = p + 1
     end if
   end subroutine next_item
+
+  pure integer function skip_blanks(t, p) result(q)
+    character(len=*), intent(in) :: t
+    integer, intent(in) :: p
+    q = p
+    do while (q <= len(t))
+      if (t(q:q) /= ' ') exit
+      q = q + 1
+    end do
+  end function skip_blanks
 
   subroutine parse_index(subscript, first, last, why)
     character(len=*), intent(in) :: subscript
@@ -187,43 +239,29 @@ contains
 
   integer function index_of_star(item) result(k)
     character(len=*), intent(in) :: item
-    integer :: i
-    k = 0
-    do i = 1, len(item)
-      if (item(i:i) == "'" .or. item(i:i) == '"') return
-      if (item(i:i) == '*') then
-        k = i
-        return
-      end if
-    end do
+    k = scan(item, '*''"')
+    if (k > 0) then
+      if (item(k:k) /= '*') k = 0
+    end if
   end function index_of_star
 
   pure logical function all_digits(t)
     character(len=*), intent(in) :: t
-    integer :: i
-    all_digits = len(t) > 0
-    do i = 1, len(t)
-      if (.not. is_digit(t(i:i))) all_digits = .false.
-    end do
+    all_digits = len(t) > 0 .and. verify(t, '0123456789') == 0
   end function all_digits
 
   pure logical function integer_form(t)
     character(len=*), intent(in) :: t
     integer :: s0
     s0 = 1
-    if (len(t) > 0) then
-      if (t(1:1) == '+' .or. t(1:1) == '-') s0 = 2
-    end if
+    if (len(t) > 0) s0 = merge(2, 1, t(1:1) == '+' .or. t(1:1) == '-')
     integer_form = all_digits(t(s0:))
   end function integer_form
 
   logical function integer_fits(t)
     character(len=*), intent(in) :: t
     character(len=:), allocatable :: d
-    integer :: s0
-    s0 = 1
-    if (t(1:1) == '+' .or. t(1:1) == '-') s0 = 2
-    d = t(s0:)
+    d = t(merge(2, 1, t(1:1) == '+' .or. t(1:1) == '-'):)
     do while (len(d) > 1)
       if (d(1:1) /= '0') exit
       d = d(2:)
@@ -236,9 +274,8 @@ contains
     character(len=*), intent(in) :: t
     integer :: i, n_digits, n_dots
     real_form = .false.
-    i = 1
     if (len(t) == 0) return
-    if (t(1:1) == '+' .or. t(1:1) == '-') i = 2
+    i = merge(2, 1, t(1:1) == '+' .or. t(1:1) == '-')
     n_digits = 0
     n_dots = 0
     do while (i <= len(t))
@@ -252,10 +289,8 @@ contains
       i = i + 1
     end do
     if (n_digits == 0 .or. n_dots > 1) return
-    if (i > len(t)) then
-      real_form = .true.
-      return
-    end if
+    real_form = i > len(t)
+    if (real_form) return
     if (index('eEdD', t(i:i)) == 0) return
     i = i + 1
     if (i <= len(t)) then
@@ -273,10 +308,8 @@ contains
     e_at = scan(t, 'eEdD')
     exponent = 0
     if (e_at > 0) then
-      if (len(t) - e_at > 6) then
-        real_fits = .false.
-        return
-      end if
+      real_fits = .false.
+      if (len(t) - e_at > 6) return
       read(t(e_at + 1:), *, iostat=ios) exponent
     else
       e_at = len(t) + 1
@@ -292,10 +325,8 @@ contains
         if (.not. nonzero .and. t(i:i) /= '0') then
           nonzero = .true.
           if (seen_dot) lead = lead - 1
-        else if (nonzero .and. .not. seen_dot) then
-          lead = lead + 1
-        else if (.not. nonzero .and. seen_dot) then
-          lead = lead - 1
+        else if (nonzero .neqv. seen_dot) then
+          lead = lead + merge(1, -1, nonzero)
         end if
       end if
     end do

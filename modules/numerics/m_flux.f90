@@ -9,29 +9,33 @@
 module m_flux
   use m_kinds, only: wp
   use m_state, only: i_epsp
+  use m_config, only: choice_index
   implicit none
   private
   public :: flux_llf, flux_hllc, flux_from_name, flux_kind_llf, flux_kind_hllc, face_flux
   public :: flux_llf_solid, scalar_flux_from_name, scalar_flux_llf, scalar_flux_upwind
+  public :: flux_names, scalar_flux_names
 
   integer, parameter :: flux_kind_llf = 1, flux_kind_hllc = 2
   integer, parameter :: scalar_flux_llf = 1, scalar_flux_upwind = 2
+  !> the deck's names (&numerics flux, scalar_flux): name k stands for kind k
+  character(len=4), parameter :: flux_names(2) = [character(len=4) :: 'llf', 'hllc']
+  character(len=6), parameter :: scalar_flux_names(2) = [character(len=6) :: 'llf', 'upwind']
   !> the first of the passive scalars (rho eps_p, rho w_c) in the pencil frame, which keeps
   !> them at their places in the state vector
   integer, parameter :: first_scalar = i_epsp
 
 contains
 
+  !> The flux kind of a deck name (flux_names), and of a scalar flux (scalar_flux_names).
   integer function flux_from_name(name) result(kind)
     character(len=*), intent(in) :: name
-    kind = flux_kind_llf
-    if (trim(name) == 'hllc') kind = flux_kind_hllc
+    kind = choice_index(flux_names, name, 'flux_from_name')
   end function flux_from_name
 
   integer function scalar_flux_from_name(name) result(kind)
     character(len=*), intent(in) :: name
-    kind = scalar_flux_llf
-    if (trim(name) == 'upwind') kind = scalar_flux_upwind
+    kind = choice_index(scalar_flux_names, name, 'scalar_flux_from_name')
   end function scalar_flux_from_name
 
   subroutine face_flux(kind, nf, wl, wr, el, er, cl, cr, f)

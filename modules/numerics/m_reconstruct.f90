@@ -8,12 +8,17 @@
 !> manual/theory.md 5.1e). Kernels only: arrays in, arrays out, no state.
 module m_reconstruct
   use m_kinds, only: wp
+  use m_config, only: choice_index
   implicit none
   private
-  public :: scheme_eno1, scheme_eno2, scheme_eno3, scheme_weno5, scheme_from_name
+  public :: scheme_eno1, scheme_eno2, scheme_eno3, scheme_weno5, scheme_from_name, scheme_names
   public :: reconstruct_faces, bound_faces, bound_weight
 
   integer, parameter :: scheme_eno1 = 1, scheme_eno2 = 2, scheme_eno3 = 3, scheme_weno5 = 5
+  !> the deck's names of the schemes (&numerics scheme), in the order of scheme_codes
+  character(len=5), parameter :: scheme_names(4) = [character(len=5) :: 'eno1', 'eno2', &
+    'eno3', 'weno5']
+  integer, parameter :: scheme_codes(4) = [scheme_eno1, scheme_eno2, scheme_eno3, scheme_weno5]
   !> the share of a cell's content given to each face value in the convex decomposition of
   !> bound_faces (the 3-point Gauss-Lobatto weight): under the condition that no face lets
   !> out more than bound_weight / ndim of a cell's mass in one stage, the upwind update of a
@@ -22,18 +27,10 @@ module m_reconstruct
 
 contains
 
+  !> The scheme of a deck name (one of scheme_names).
   integer function scheme_from_name(name) result(scheme)
     character(len=*), intent(in) :: name
-    select case (trim(name))
-    case ('eno1')
-      scheme = scheme_eno1
-    case ('eno2')
-      scheme = scheme_eno2
-    case ('weno5')
-      scheme = scheme_weno5
-    case default
-      scheme = scheme_eno3
-    end select
+    scheme = scheme_codes(choice_index(scheme_names, name, 'scheme_from_name'))
   end function scheme_from_name
 
   !> Face states of nv variables on nb pencils of n cells with ng >= 3 halo cells, the pencil

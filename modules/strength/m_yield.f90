@@ -23,6 +23,7 @@ module m_yield
   implicit none
   private
   public :: strength_t, strength_from_material, strength_model_from_name, strength_problem
+  public :: strength_model_names
   public :: yield_stress, yield_stress_slopes, viscoplastic_rate
   public :: strength_none, strength_elastic, strength_perfectly_plastic
   public :: strength_linear_hardening, strength_johnson_cook, strength_viscoplastic
@@ -33,6 +34,10 @@ module m_yield
   integer, parameter :: strength_linear_hardening = 3
   integer, parameter :: strength_johnson_cook = 4
   integer, parameter :: strength_viscoplastic = 5
+  !> the deck's names (&material strength_model): name k stands for model k - 1
+  character(len=22), parameter :: strength_model_names(6) = [character(len=22) :: 'none', &
+    'elastic', 'perfectly_plastic', 'linear_hardening', 'johnson_cook', &
+    'viscoplastic_power_law']
 
   real(wp), parameter :: mpa = 1.0e6_wp            !< the power law's stress unit (Pa)
   real(wp), parameter :: exp_max = 700.0_wp        !< exp() argument cap (no overflow)
@@ -62,22 +67,9 @@ contains
   !> The model constant of a deck name; -1 when the name is unknown.
   pure integer function strength_model_from_name(name) result(model)
     character(len=*), intent(in) :: name
-    select case (trim(adjustl(name)))
-    case ('', 'none')
-      model = strength_none
-    case ('elastic')
-      model = strength_elastic
-    case ('perfectly_plastic')
-      model = strength_perfectly_plastic
-    case ('linear_hardening')
-      model = strength_linear_hardening
-    case ('johnson_cook')
-      model = strength_johnson_cook
-    case ('viscoplastic_power_law', 'viscoplastic')
-      model = strength_viscoplastic
-    case default
-      model = -1
-    end select
+    model = findloc(strength_model_names, adjustl(name), 1) - 1
+    if (len_trim(name) == 0) model = strength_none
+    if (trim(adjustl(name)) == 'viscoplastic') model = strength_viscoplastic
   end function strength_model_from_name
 
   !> Strength parameters of a material; unset fields take the strength_t defaults (G, Y0,

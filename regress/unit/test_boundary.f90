@@ -31,9 +31,11 @@ program test_boundary
   call comm_init()
   call check_start('test_boundary')
 
-  call check('bc_from_name', bc_from_name('outflow') == bc_outflow .and. &
-    bc_from_name('symmetry') == bc_symmetry .and. bc_from_name('rigid') == bc_rigid .and. &
-    bc_from_name('periodic') == bc_periodic .and. bc_from_name('velocity') == bc_velocity)
+  call check('bc_from_name outflow', bc_from_name('outflow') == bc_outflow)
+  call check('bc_from_name symmetry', bc_from_name('symmetry') == bc_symmetry)
+  call check('bc_from_name rigid', bc_from_name('rigid') == bc_rigid)
+  call check('bc_from_name periodic', bc_from_name('periodic') == bc_periodic)
+  call check('bc_from_name velocity', bc_from_name('velocity') == bc_velocity)
 
   ! 2D gas, one block: outflow / rigid low, symmetry / velocity high (steady wall)
   bc = bc_kind_t(lo=[bc_outflow, bc_rigid, bc_outflow], hi=[bc_symmetry, bc_velocity, &
