@@ -271,20 +271,23 @@ contains
       type(piece_t), intent(in) :: list(:)
       real(wp), intent(inout) :: buf(:)
       logical, intent(in) :: into
-      integer :: kp, pos, nc, ext(4)
+      integer :: kp, pos, ni, mv, j, kk
       pos = 0
       do kp = 1, size(list)
         associate (lo => list(kp)%lo, hi => list(kp)%hi, q => blocks(list(kp)%local)%q)
-          ext = [hi - lo + 1, nvar - m1 + 1]
-          nc = product(ext)
-          if (into) then
-            buf(pos + 1:pos + nc) = reshape(q(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), &
-              m1:nvar), [nc])
-          else
-            q(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), m1:nvar) = &
-              reshape(buf(pos + 1:pos + nc), ext)
-          end if
-          pos = pos + nc
+          ni = hi(1) - lo(1) + 1
+          do mv = m1, nvar
+            do kk = lo(3), hi(3)
+              do j = lo(2), hi(2)
+                if (into) then
+                  buf(pos + 1:pos + ni) = q(lo(1):hi(1), j, kk, mv)
+                else
+                  q(lo(1):hi(1), j, kk, mv) = buf(pos + 1:pos + ni)
+                end if
+                pos = pos + ni
+              end do
+            end do
+          end do
         end associate
       end do
     end subroutine carry
