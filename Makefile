@@ -140,6 +140,9 @@ $(foreach o,$(CAF_REL_OBJ) build/rel-caf/src/sabre.o,$(if $(prev),$(eval $(o): $
 prev :=
 $(foreach o,$(CAF_CHK_OBJ) build/chk-caf/src/sabre.o,$(if $(prev),$(eval $(o): $(prev)))$(eval prev := $(o)))
 $(CAF_REL_OBJ) $(CAF_CHK_OBJ): Makefile
+# both comm back ends include their one interface
+$(filter %/m_comm_mpi.o %/m_comm_caf.o,$(REL_OBJ) $(CHK_OBJ) $(CAF_REL_OBJ) $(CAF_CHK_OBJ)): \
+  modules/parallel/m_comm_backend.inc modules/parallel/m_comm_backend_error.inc
 
 # the coarray build's regression pass, after the MPI pass (whose outputs it compares with)
 check-caf:

@@ -51,37 +51,37 @@ contains
           end do
         end do
       end do
-    case (2)
-      do k = 1, n(3)
-        do j = 1 - gd, m + gd
-          do i = 1, n(1)
-            v(i, j, 1) = (phi(i, j, k) - phi(i, j-1, k)) * rdx
-          end do
-        end do
-        call reconstruct_faces(scheme, nb, m, gd, 1, v, left, right)
-        do j = 1, m
-          do i = 1, n(1)
-            dminus(i, j, k) = left(i, j, 1)
-            dplus(i, j, k) = right(i, j, 1)
-          end do
-        end do
-      end do
     case default
-      do j = 1, n(2)
-        do k = 1 - gd, m + gd
-          do i = 1, n(1)
-            v(i, k, 1) = (phi(i, j, k) - phi(i, j, k-1)) * rdx
-          end do
-        end do
-        call reconstruct_faces(scheme, nb, m, gd, 1, v, left, right)
-        do k = 1, m
-          do i = 1, n(1)
-            dminus(i, j, k) = left(i, k, 1)
-            dplus(i, j, k) = right(i, k, 1)
-          end do
-        end do
+      ! y or z: the lines run along the second index of a plane of phi (k or j held)
+      do k = 1, n(5 - dir)
+        if (dir == 2) then
+          call along_plane(phi(1:n(1), :, k), dminus(:, :, k), dplus(:, :, k))
+        else
+          call along_plane(phi(1:n(1), k, :), dminus(:, k, :), dplus(:, k, :))
+        end if
       end do
     end select
+
+  contains
+
+    !> One plane p(i, l) whose second index l runs along dir: its one-sided derivatives.
+    subroutine along_plane(p, dm, dp)
+      real(wp), intent(in) :: p(:, 1-g(dir):)
+      real(wp), intent(out) :: dm(:, :), dp(:, :)
+      integer :: l
+      do l = 1 - gd, m + gd
+        do i = 1, n(1)
+          v(i, l, 1) = (p(i, l) - p(i, l-1)) * rdx
+        end do
+      end do
+      call reconstruct_faces(scheme, nb, m, gd, 1, v, left, right)
+      do l = 1, m
+        do i = 1, n(1)
+          dm(i, l) = left(i, l, 1)
+          dp(i, l) = right(i, l, 1)
+        end do
+      end do
+    end subroutine along_plane
   end subroutine levelset_one_sided
 
 end module m_levelset_derivatives

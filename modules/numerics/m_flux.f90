@@ -79,7 +79,7 @@ contains
     integer, intent(in) :: nf
     real(wp), intent(in) :: wl(nf, 5), wr(nf, 5), el(nf), er(nf), cl(nf), cr(nf)
     real(wp), intent(out) :: f(nf, 5)
-    real(wp) :: sl, sr, ss, enl, enr, fl(5), fr(5), ul(5), ur(5), us(5), fac, rho, un, en
+    real(wp) :: sl, sr, ss, enl, enr
     integer :: i
     do i = 1, nf
       sl = min(wl(i, 2) - cl(i), wr(i, 2) - cr(i))
@@ -90,36 +90,29 @@ contains
         - wr(i, 1) * wr(i, 2) * (sr - wr(i, 2))) &
         / (wl(i, 1) * (sl - wl(i, 2)) - wr(i, 1) * (sr - wr(i, 2)))
       if (ss >= 0.0_wp) then
-        rho = wl(i, 1)
-        un = wl(i, 2)
-        en = enl
-        call euler_flux(wl(i, 1), wl(i, 2), wl(i, 3), wl(i, 4), wl(i, 5), enl, fl)
-        if (sl >= 0.0_wp) then
-          f(i, :) = fl
-          cycle
-        end if
-        ul = [rho, rho * un, rho * wl(i, 3), rho * wl(i, 4), en]
-        fac = rho * (sl - un) / (sl - ss)
-        us = fac * [1.0_wp, ss, wl(i, 3), wl(i, 4), &
-          en / rho + (ss - un) * (ss + wl(i, 5) / (rho * (sl - un)))]
-        f(i, :) = fl + sl * (us - ul)
+        f(i, :) = hllc_side(wl(i, 1), wl(i, 2), wl(i, 3), wl(i, 4), wl(i, 5), enl, sl, ss, &
+          sl >= 0.0_wp)
       else
-        rho = wr(i, 1)
-        un = wr(i, 2)
-        en = enr
-        call euler_flux(wr(i, 1), wr(i, 2), wr(i, 3), wr(i, 4), wr(i, 5), enr, fr)
-        if (sr <= 0.0_wp) then
-          f(i, :) = fr
-          cycle
-        end if
-        ur = [rho, rho * un, rho * wr(i, 3), rho * wr(i, 4), en]
-        fac = rho * (sr - un) / (sr - ss)
-        us = fac * [1.0_wp, ss, wr(i, 3), wr(i, 4), &
-          en / rho + (ss - un) * (ss + wr(i, 5) / (rho * (sr - un)))]
-        f(i, :) = fr + sr * (us - ur)
+        f(i, :) = hllc_side(wr(i, 1), wr(i, 2), wr(i, 3), wr(i, 4), wr(i, 5), enr, sr, ss, &
+          sr <= 0.0_wp)
       end if
     end do
   end subroutine flux_hllc
+
+  !> The HLLC flux on the side of the contact that the face sees: that side's state (rho,
+  !> u_n, u_t1, u_t2, p), total energy en and wave speed s; beyond the wave (supersonic)
+  !> its Euler flux, else that flux plus s times the jump to the star state.
+  pure function hllc_side(rho, un, ut1, ut2, p, en, s, ss, supersonic) result(f)
+    real(wp), intent(in) :: rho, un, ut1, ut2, p, en, s, ss
+    logical, intent(in) :: supersonic
+    real(wp) :: f(5), u(5), us(5), fac
+    call euler_flux(rho, un, ut1, ut2, p, en, f)
+    if (supersonic) return
+    u = [rho, rho * un, rho * ut1, rho * ut2, en]
+    fac = rho * (s - un) / (s - ss)
+    us = fac * [1.0_wp, ss, ut1, ut2, en / rho + (ss - un) * (ss + p / (rho * (s - un)))]
+    f = f + s * (us - u)
+  end function hllc_side
 
   pure subroutine euler_flux(rho, un, ut1, ut2, p, en, f)
     real(wp), intent(in) :: rho, un, ut1, ut2, p, en

@@ -14,8 +14,7 @@ module m_comm
   use mpi_f08, only: MPI_Comm, MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, MPI_INFO_NULL, &
     MPI_Comm_split_type, MPI_Comm_size, MPI_Comm_rank, MPI_Comm_free, MPI_Wtime
   use m_comm_backend, only: comm_backend_name, backend_init, backend_finalize, &
-    backend_barrier, backend_min_real, &
-    backend_min_int, backend_max_real, backend_max_int, backend_sum_real, backend_sum_int8, &
+    backend_barrier, backend_max, backend_sum_real, backend_sum_int8, &
     backend_bcast_int, backend_bcast_real, backend_bcast_logical, backend_bcast_chars, &
     backend_abort, comm_exchange_t, exchange_setup, exchange_start, exchange_wait
   implicit none
@@ -30,10 +29,10 @@ module m_comm
   integer :: n_ranks = 1
 
   interface comm_min
-    module procedure backend_min_real, backend_min_int
+    module procedure comm_min_real, comm_min_int
   end interface comm_min
   interface comm_max
-    module procedure backend_max_real, backend_max_int
+    module procedure backend_max, comm_max_int
   end interface comm_max
   interface comm_sum
     module procedure comm_sum_real, backend_sum_int8
@@ -105,6 +104,23 @@ contains
     comm_wtime = MPI_Wtime()
   end function comm_wtime
 
+  !> min, and the integers, from the back end's one real max: negation is exact, and so is
+  !> a 32-bit integer as a double.
+  real(wp) function comm_min_real(x) result(r)
+    real(wp), intent(in) :: x
+    r = -backend_max(-x)
+  end function comm_min_real
+
+  integer function comm_max_int(x) result(r)
+    integer, intent(in) :: x
+    r = nint(backend_max(real(x, wp)))
+  end function comm_max_int
+
+  integer function comm_min_int(x) result(r)
+    integer, intent(in) :: x
+    r = -comm_max_int(-x)
+  end function comm_min_int
+
   !> Sums are for diagnostics: their last bits depend on the number of ranks (a sum that
   !> steers the solution adds one non-zero term per entry, which any order gives exactly).
   real(wp) function comm_sum_real(x) result(r)
@@ -122,7 +138,7 @@ contains
 
   logical function comm_any(x) result(r)
     logical, intent(in) :: x
-    r = backend_max_int(merge(1, 0, x)) > 0
+    r = comm_max_int(merge(1, 0, x)) > 0
   end function comm_any
 
   !> The lowest rank for which flag is true, or -1 when no rank has it.
@@ -131,7 +147,7 @@ contains
     integer :: mine
     mine = huge(1)
     if (flag) mine = my_rank
-    r = backend_min_int(mine)
+    r = comm_min_int(mine)
     if (r == huge(1)) r = -1
   end function comm_minloc_rank
 

@@ -7,12 +7,7 @@ module m_comm_backend
   use m_kinds, only: wp, i8
   implicit none
   private
-  public :: comm_backend_name, backend_init, backend_finalize, backend_barrier
-  public :: backend_abort
-  public :: backend_min_real, backend_min_int, backend_max_real, backend_max_int
-  public :: backend_sum_real, backend_sum_int8
-  public :: backend_bcast_int, backend_bcast_real, backend_bcast_logical, backend_bcast_chars
-  public :: comm_exchange_t, exchange_setup, exchange_start, exchange_wait
+  include 'm_comm_backend.inc'
 
   character(len=*), parameter :: comm_backend_name = 'MPI'
 
@@ -52,29 +47,13 @@ contains
     call MPI_Abort(MPI_COMM_WORLD, code, ierr)
   end subroutine backend_abort
 
-  real(wp) function backend_min_real(x) result(r)
-    real(wp), intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_DOUBLE_PRECISION, MPI_MIN, MPI_COMM_WORLD, ierr)
-  end function backend_min_real
-
-  integer function backend_min_int(x) result(r)
-    integer, intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_INTEGER, MPI_MIN, MPI_COMM_WORLD, ierr)
-  end function backend_min_int
-
-  real(wp) function backend_max_real(x) result(r)
+  !> The largest x over the ranks (exact in any order); m_comm makes min and the integer
+  !> versions of it (every 32-bit integer is a double exactly).
+  real(wp) function backend_max(x) result(r)
     real(wp), intent(in) :: x
     integer :: ierr
     call MPI_Allreduce(x, r, 1, MPI_DOUBLE_PRECISION, MPI_MAX, MPI_COMM_WORLD, ierr)
-  end function backend_max_real
-
-  integer function backend_max_int(x) result(r)
-    integer, intent(in) :: x
-    integer :: ierr
-    call MPI_Allreduce(x, r, 1, MPI_INTEGER, MPI_MAX, MPI_COMM_WORLD, ierr)
-  end function backend_max_int
+  end function backend_max
 
   subroutine backend_sum_real(x)
     real(wp), intent(inout) :: x(:)
@@ -167,12 +146,6 @@ contains
     ex%n = 0
   end subroutine exchange_wait
 
-  !> A broken promise between m_halo and this module (a bug, not a user error).
-  subroutine internal_error(where, what)
-    character(len=*), intent(in) :: where, what
-    write(0, '(a)') 'ERROR [' // where // ']: ' // what // ' (internal error: report it)'
-    flush(0)
-    call backend_abort(3)
-  end subroutine internal_error
+  include 'm_comm_backend_error.inc'
 
 end module m_comm_backend
