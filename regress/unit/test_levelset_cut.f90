@@ -8,8 +8,9 @@
 !> hoop term in axisymmetry) per cell, computed here from the face radii;
 !> (4) a circle, a sphere and an axisymmetric sphere: the phase's area / volume and its
 !> interface area converging at second order (tables printed), fractions in [0, 1],
-!> cells deep inside exactly 1 with apertures 1, deep outside exactly 0; (5) a level set
-!> of +-huge (a composite level set with no surface) without overflow.
+!> cells deep inside exactly 1 with apertures 1, deep outside exactly 0, the other side
+!> (-phi) complementary; (5) a level set of +-huge (a composite level set with no surface)
+!> without overflow.
 program test_levelset_cut
   use m_kinds, only: wp
   use m_comm, only: comm_init
@@ -451,7 +452,7 @@ contains
   end subroutine check_huge
 
   !> Checks shared by the curved shapes: range, exact 1 and 0 away from the surface (and
-  !> apertures 1 around a cell deep inside), the identity.
+  !> apertures 1 around a cell deep inside), the identity, the complement's geometry.
   subroutine check_curved(what, ndim, axi, n, dx, r0, phi, c, h)
     character(len=*), intent(in) :: what
     integer, intent(in) :: ndim, n(3)
@@ -459,8 +460,10 @@ contains
     real(wp), intent(in) :: dx(3), r0, h
     real(wp), intent(in) :: phi(:, :, :)
     type(cut_t), intent(in) :: c
+    type(cut_t) :: o
     logical :: ok
-    integer :: i, j, k, g(3)
+    real(wp) :: err, scale
+    integer :: i, j, k, d, g(3)
     g = merge(ng, 0, [1, 2, 3] <= ndim)
     ok = in_unit_range(c)
     do k = 1, n(3)
@@ -481,6 +484,17 @@ contains
     call check(what // ': fractions in [0, 1], 1 inside, 0 outside', ok)
     call check_error(what // ': divergence identity', &
       identity_error(ndim, axi, n, dx, r0, c), 1.0e-13_wp)
+    ! the other side (-phi, the partner phase of a material interface) has the complementary
+    ! fractions and apertures and the opposite n S: what one phase loses the other can gain
+    call compute(ndim, axi, n, dx, r0, -phi, o)
+    err = max(maxval(abs(c%alpha + o%alpha - 1.0_wp)), maxval(abs(c%ax + o%ax - 1.0_wp)), &
+      maxval(abs(c%ay + o%ay - 1.0_wp)), maxval(abs(c%az + o%az - 1.0_wp)))
+    scale = maxval(c%area)
+    do d = 1, 3
+      err = max(err, maxval(abs(c%area * c%normal(:, :, :, d) + o%area * o%normal(:, :, :, d))) &
+        / scale)
+    end do
+    call check_error(what // ': the other side complementary', err, 1.0e-13_wp)
   end subroutine check_curved
 
   !> The table of a convergence study, and its checks: the observed order of the last
