@@ -16,6 +16,7 @@ module m_output
   use m_errors, only: stop_collective, log_line
   use m_deck_text, only: base_name, int_text
   use m_levelset_bodies, only: ls_region, ls_material
+  use m_gfm_cut, only: cut_content
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
   use m_config, only: is_set, material_index
@@ -364,6 +365,10 @@ contains
       'fallback_faces', 'first_order_steps', 'first_order_cells']
     if (sim%fix%on) cols = [character(len=name_len) :: cols, 'solid_mass', 'solid_energy', &
       'fixed_mass', 'fixed_energy', 'target_mass', 'target_energy']
+    ! the cut-cell phase's budget (m_gfm_cut): content, what came in through the sides,
+    ! what found no cell, and the volume its level set encloses
+    if (sim%cut%on) cols = [character(len=name_len) :: cols, 'cut_mass', 'cut_energy', &
+      'cut_volume', 'cut_in_mass', 'cut_in_energy', 'cut_stranded_mass', 'cut_stranded_energy']
     do l = 1, sim%ls%n
       if (sim%ls%kind(l) /= ls_material) cycle
       cols = [character(len=name_len) :: cols, &
@@ -377,7 +382,7 @@ contains
   function history_values(sim) result(v)
     type(sim_t), intent(in) :: sim
     real(wp), allocatable :: v(:)
-    real(wp) :: tot(8), pmax, tmax, epmax
+    real(wp) :: tot(8), pmax, tmax, epmax, cut_tot(7)
     integer :: b, l, nb, ph
     real(wp), allocatable :: body(:, :)
     logical :: has_t(sim%ph%nphase)
@@ -398,6 +403,16 @@ contains
     v = [sim%clk%time, sim%clk%dt, tot(1:7), comm_max(pmax), tmax, comm_max(epmax), tot(8), &
       real(sim%diag%first_order_steps, wp), real(comm_sum(sim%diag%cells_low), wp)]
     if (sim%fix%on) v = [v, sim%fix%measure, sum(sim%fix%taken, dim=2), sum(sim%fix%content, dim=2)]
+    if (sim%cut%on) then
+      cut_tot = 0.0_wp
+      do b = 1, size(sim%blocks)
+        cut_tot(1:3) = cut_tot(1:3) + cut_content(sim%cut, b, sim%blocks(b))
+      end do
+      cut_tot(4:5) = sim%cut%crossed
+      cut_tot(6:7) = sim%cut%stranded
+      call comm_sum_array(cut_tot)
+      v = [v, cut_tot]
+    end if
     nb = count(sim%ls%kind == ls_material)
     if (nb == 0) return
     allocate(body(8, nb))

@@ -60,6 +60,7 @@ contains
     call log_line('effects: thermal ' // thermal_reason(s))
     call log_line('effects: heat conduction off, reaction off (not in this version)')
     call log_line('effects: interfaces ' // trim(interfaces_reason(s)))
+    if (s%ls%n > 0) call log_line('gfm: cut-cell update ' // trim(s%cut%reason))
     if (s%ls%n > 0 .and. s%ph%has_strength) call log_line('gfm: conservation fix ' // &
       trim(s%fix%reason))
     if (s%ph%has_strength) then

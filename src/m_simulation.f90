@@ -19,6 +19,7 @@ module m_simulation
   use m_phases, only: phases_t
   use m_fallback, only: counters_t
   use m_gfm_conserve, only: fix_t, fix_setup
+  use m_gfm_cut, only: cut_t, cut_setup
   use m_reconstruct, only: scheme_from_name
   use m_flux, only: flux_from_name, scalar_flux_from_name
   use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status
@@ -83,6 +84,7 @@ module m_simulation
     type(ls_set_t) :: ls               !< level-set bodies (m_levelset_bodies)
     type(gf_t) :: gf                   !< the ghost-fluid state (m_gfm)
     type(fix_t) :: fix                 !< the conservation fix (m_gfm_conserve)
+    type(cut_t) :: cut                 !< the conservative cut-cell update (m_gfm_cut)
     type(counters_t) :: diag           !< what the step had to do, and its cost (m_fallback)
     type(work_t) :: wk
     type(timers_t) :: timers
@@ -151,7 +153,16 @@ contains
       sim%gf%scn%probe = probe_from_name(cfg%gfm_probe)
       sim%gf%scn%band = ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim))
       sim%gf%scn%contact = cfg%contact_kappa * maxval(sim%lay%dx(1:sim%lay%ndim))
-      call fix_setup(sim%fix, sim%ph, sim%ls, cfg%conserve, size(sim%blocks))
+      ! conserve = 'cut_cell': by the fluxes where m_gfm_cut applies, else by the fix
+      call cut_setup(sim%cut, cfg%conserve == 'cut_cell', sim%lay, sim%ph, sim%ls, sim%blocks)
+      if (sim%cut%on) then
+        call fix_setup(sim%fix, sim%ph, sim%ls, 'none', size(sim%blocks))
+        sim%fix%reason = 'off: the cut-cell update conserves by its fluxes'
+      else if (cfg%conserve == 'cut_cell') then
+        call fix_setup(sim%fix, sim%ph, sim%ls, 'mass_energy', size(sim%blocks))
+      else
+        call fix_setup(sim%fix, sim%ph, sim%ls, cfg%conserve, size(sim%blocks))
+      end if
     end if
     sim%num%scheme = scheme_from_name(cfg%scheme)
     sim%num%flux = flux_from_name(cfg%flux)

@@ -13,7 +13,7 @@ module m_step
   use m_euler, only: rk_stage_update
   use m_fallback, only: find_trouble
   use m_levelset_motion, only: levelset_rates
-  use m_gfm_stage, only: ghost_fluid_fill, phase_rhs, phase_corrections
+  use m_gfm_stage, only: ghost_fluid_fill, phase_rhs, phase_corrections, phases_states
   use m_comm, only: comm_any, comm_sum
   use m_timers, only: timer_start, timer_stop
   implicit none
@@ -49,8 +49,8 @@ contains
       call timer_stop(sim%timers, 'halo')
       if (sim%ls%n > 0) then
         call timer_start(sim%timers, 'gfm')
-        call ghost_fluid_fill(sim%gf, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, &
-          sim%cfg%bodies, sim%blocks, t)
+        call ghost_fluid_fill(sim%gf, sim%cut, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, &
+          sim%cfg%bodies, sim%blocks, t, stage, sim%clk%dt, sim%cfg%thermal, failed)
         call timer_stop(sim%timers, 'gfm')
         call timer_start(sim%timers, 'halo')
         call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_flow, t, &
@@ -75,7 +75,7 @@ contains
           ! the cell-local fallback: the stage again with every face of the cells it left
           ! inadmissible at first order (one on a side shared with another block is left
           ! to the step fallback)
-          call find_trouble(sim%lay, sim%ph, blk, sim%wk%trouble, nbad, edge)
+          call find_trouble(sim%lay, sim%ph, blk, sim%wk%trouble, nbad, edge, sim%cut%p)
           if (nbad > 0 .and. .not. edge) then
             if (stage > 1) then
               blk%q(1:n(1), 1:n(2), 1:n(3), :) = sim%wk%qsave
@@ -92,6 +92,10 @@ contains
       sim%diag%step_failed = comm_any(failed)
       if (sim%diag%step_failed) exit
     end do
+    ! a cut-cell phase's content into states (m_gfm_cut; nothing to do without one)
+    if (.not. sim%diag%step_failed) call phases_states(sim%gf, sim%cut, sim%ls, sim%ph, &
+      sim%plan, sim%lay, sim%bc, sim%blocks, sim%clk%time + sim%clk%dt, sim%clk%dt, &
+      sim%cfg%rk_order, sim%cfg%thermal, .false., sim%diag%step_failed)
     sim%diag%fallback_faces = sim%diag%fallback_faces + int(nf, i8)
     sim%diag%fallback_step = comm_sum(int(nf, i8))
   end subroutine advance
@@ -109,8 +113,8 @@ contains
     logical, intent(in), optional :: trouble(:, :, :)
     integer :: p
     do p = 1, sim%ph%nphase
-      call phase_rhs(sim%gf, sim%ls, sim%ph, sim%num, sim%fix, sim%blocks(b), b, p, stage, &
-        wall, vwall, sim%wk%euler, nf, failed, trouble)
+      call phase_rhs(sim%gf, sim%cut, sim%ls, sim%ph, sim%num, sim%fix, sim%blocks(b), b, p, &
+        stage, wall, vwall, sim%wk%euler, nf, failed, trouble)
     end do
     if (failed) return
     if (sim%ls%n > 0) call levelset_rates(sim%lay, sim%ls, sim%ph, sim%cfg%band, &
@@ -119,8 +123,8 @@ contains
       call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%clk%dt, blk%q, blk%q0, &
         blk%rhs)
     end associate
-    call phase_corrections(sim%gf, sim%ls, sim%ph, sim%fix, sim%blocks(b), sim%clk%dt, &
-      sim%cfg%thermal)
+    call phase_corrections(sim%gf, sim%cut, sim%ls, sim%ph, sim%fix, sim%blocks(b), b, stage, &
+      sim%cfg%rk_order, sim%clk%dt, sim%cfg%thermal)
   end subroutine block_stage
 
 end module m_step

@@ -12,15 +12,19 @@ module m_gfm_stage
   use m_boundary, only: bc_kind_t, fill_ghosts, ghosts_flow
   use m_phases, only: phases_t
   use m_config, only: body_t
-  use m_euler, only: numerics_t, euler_work_t, euler_rhs
+  use m_euler, only: numerics_t, euler_work_t, euler_rhs, rk_weights
   use m_elastoplastic, only: plastic_correction
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_separate, ls_material
   use m_scene, only: rigid_bodies_move
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_donate, cut_open, cut_update
+  use m_state, only: n_euler
+  use m_boundary, only: ghosts_all, bc_outflow
+  use m_comm, only: comm_any
   implicit none
   private
-  public :: ghost_fluid_fill, phase_rhs, phase_corrections
+  public :: ghost_fluid_fill, phase_rhs, phase_corrections, phases_states
 
 contains
 
@@ -32,8 +36,13 @@ contains
   !> wakes (its level sets, always exchanged, now reach into a band) takes the flow halo it
   !> missed, from neighbours not yet filled: the result is that of exchanging every halo
   !> every time.
-  subroutine ghost_fluid_fill(gf, ls, ph, plan, lay, bc, bodies, blocks, t)
+  !> With a cut-cell phase (m_gfm_cut), first its geometry at this stage and, after the first
+  !> stage, its content into states (and their radial return); failed: a state that is not
+  !> admissible.
+  subroutine ghost_fluid_fill(gf, cut, ls, ph, plan, lay, bc, bodies, blocks, t, stage, dt, &
+      thermal, failed)
     type(gf_t), intent(inout) :: gf
+    type(cut_t), intent(inout) :: cut
     type(ls_set_t), intent(in) :: ls
     type(phases_t), intent(in) :: ph
     type(halo_plan_t), intent(inout) :: plan
@@ -41,9 +50,20 @@ contains
     type(bc_kind_t), intent(in) :: bc
     type(body_t), intent(in) :: bodies(:)
     type(block_t), intent(inout) :: blocks(:)
-    real(wp), intent(in) :: t
+    real(wp), intent(in) :: t, dt
+    integer, intent(in) :: stage
+    logical, intent(in) :: thermal
+    logical, intent(inout) :: failed
     integer :: b
     call rigid_bodies_move(lay, bodies, ls, ph%ils, blocks, t)
+    if (cut%on) then
+      if (stage == 1) cut%side = 0.0_wp
+      call cut_stage(gf, cut, ls, ph, plan, lay, bc, blocks, t, stage > 1, .false., dt, thermal, &
+        failed)
+      ! the halo held content: now the neighbours' states, for the ghost fill's stencils
+      if (stage > 1) call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
+    end if
+    ! (after the cut-cell phase's content is states again: a waking block copies states)
     do b = 1, size(blocks)
       if (.not. gf%dormant(b)) cycle
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
@@ -62,9 +82,10 @@ contains
   !> cells are real (for the radial return), which faces join two of them (upwind scalar
   !> flux) and which lie on its surface (transported variables at the real cell's value);
   !> what came in through the domain's sides goes to the conservation fix.
-  subroutine phase_rhs(gf, ls, ph, num, fix, blk, b, p, stage, wall, vwall, work, nf, failed, &
-      trouble)
+  subroutine phase_rhs(gf, cut, ls, ph, num, fix, blk, b, p, stage, wall, vwall, work, nf, &
+      failed, trouble)
     type(gf_t), intent(inout) :: gf
+    type(cut_t), intent(inout) :: cut
     type(ls_set_t), intent(in) :: ls
     type(phases_t), intent(in) :: ph
     type(numerics_t), intent(in) :: num
@@ -77,13 +98,31 @@ contains
     integer, intent(inout) :: nf
     logical, intent(inout) :: failed
     logical, intent(in), optional :: trouble(:, :, :)
-    integer :: lo(3), hi(3)
-    if (ls%n > 0 .and. ph%strong(p)) then
+    real(wp), allocatable :: wet(:, :, :)
+    integer :: lo(3), hi(3), e(3)
+    if (ls%n > 0 .and. (ph%strong(p) .or. p == cut%p)) then
       lo = 1 - blk%lay%ng
       hi = blk%n + blk%lay%ng
       call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
         gf%work%bigphi(:, :, :, p), gf%work%owner(:, :, :, p))
       gf%work%isreal(:, :, :, p) = gf%work%bigphi(:, :, :, p) < 0.0_wp
+      if (p == cut%p) then
+        ! the cut-cell phase: the rate of its content, fluxes times the wet faces; every
+        ! face with a wet part joins two wet cells, and there the transported variables
+        ! (S, eps_p, w_c) move with the mass flux (upwind), whatever the cells' centres
+        allocate(wet(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+        wet = gf%work%bigphi(:, :, :, p)
+        e = max(blk%lay%ng - 1, 0)
+        associate (a => cut%ext(b)%a)
+          wet(1-e(1):blk%n(1)+e(1), 1-e(2):blk%n(2)+e(2), 1-e(3):blk%n(3)+e(3)) = &
+            merge(-1.0_wp, 1.0_wp, a > 0.0_wp)
+        end associate
+        call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
+          blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
+          wet, trouble, cut%faces(b))
+        cut%side(:, stage) = cut%side(:, stage) + work%bflux
+        return
+      end if
       call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
         blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
         gf%work%bigphi(:, :, :, p), trouble)
@@ -99,16 +138,24 @@ contains
   !> (with a surface, on its real cells, a cell that has just turned real brought to the
   !> yield surface without plastic work), overlap between material bodies removed, debris
   !> taken out of the bodies, and the rest state outside each phase's region.
-  subroutine phase_corrections(gf, ls, ph, fix, blk, dt, thermal)
+  !> With a cut-cell phase: its content after the update instead (m_gfm_cut); its radial
+  !> return and rest states come when the content is made states again.
+  subroutine phase_corrections(gf, cut, ls, ph, fix, blk, b, stage, order, dt, thermal)
     type(gf_t), intent(inout) :: gf
+    type(cut_t), intent(inout) :: cut
     type(ls_set_t), intent(in) :: ls
     type(phases_t), intent(in) :: ph
     type(fix_t), intent(inout) :: fix
     type(block_t), intent(inout) :: blk
+    integer, intent(in) :: b, stage, order
     real(wp), intent(in) :: dt
     logical, intent(in) :: thermal
     logical :: fresh(blk%n(1), blk%n(2), blk%n(3))
     integer :: p, lo(3), hi(3)
+    if (cut%on) then
+      call cut_update(cut, b, blk, ph, stage, order, dt)
+      return
+    end if
     associate (n => blk%n, w => gf%work)
       lo = 1 - blk%lay%ng
       hi = n + blk%lay%ng
@@ -135,5 +182,120 @@ contains
       if (ls%n > 0) call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
     end associate
   end subroutine phase_corrections
+
+  !> A cut-cell phase's content and states (nothing to do without one), every halo first
+  !> brought up to date. At the start of a run (start: the initial state painted or read
+  !> from a checkpoint) its content from its states and the fractions of its level set;
+  !> after the last stage of a step, its content into the step's states and the step's
+  !> in-flow through the sides into its budget. failed: a state that is not admissible on
+  !> some rank.
+  subroutine phases_states(gf, cut, ls, ph, plan, lay, bc, blocks, t, dt, order, thermal, &
+      start, failed)
+    type(gf_t), intent(inout) :: gf
+    type(cut_t), intent(inout) :: cut
+    type(ls_set_t), intent(in) :: ls
+    type(phases_t), intent(in) :: ph
+    type(halo_plan_t), intent(inout) :: plan
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    type(block_t), intent(inout) :: blocks(:)
+    real(wp), intent(in) :: t, dt
+    integer, intent(in) :: order
+    logical, intent(in) :: thermal, start
+    logical, intent(inout) :: failed
+    logical :: bad
+    if (.not. cut%on) return
+    call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, gf%dormant)
+    bad = .false.
+    if (start) cut%started = .false.
+    call cut_stage(gf, cut, ls, ph, plan, lay, bc, blocks, t, .not. start, .not. start, dt, &
+      thermal, bad)
+    if (start) return
+    failed = comm_any(bad)
+    ! what came in through the domain's sides in this step (the stages' weights)
+    if (.not. failed) cut%crossed = cut%crossed + dt * matmul(cut%side, rk_weights(order))
+  end subroutine phases_states
+
+  !> The cut-cell phase on every awake block: its geometry from the level sets; with
+  !> states, its content made states (the emptied cells' content to their neighbours, the
+  !> halo exchanged again, the small cells mixed: cut_donate, cut_open) and their radial
+  !> return; with final (the step's end), the content kept for the next step (c0), the
+  !> fractions, and the rest state beyond the phase. The first call of a run takes the
+  !> content of the initial states.
+  subroutine cut_stage(gf, cut, ls, ph, plan, lay, bc, blocks, t, states, final, dt, thermal, &
+      failed)
+    type(gf_t), intent(inout) :: gf
+    type(cut_t), intent(inout) :: cut
+    type(ls_set_t), intent(in) :: ls
+    type(phases_t), intent(in) :: ph
+    type(halo_plan_t), intent(inout) :: plan
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    type(block_t), intent(inout) :: blocks(:)
+    logical, intent(in) :: states, final, thermal
+    real(wp), intent(in) :: t, dt
+    logical, intent(inout) :: failed
+    logical, allocatable :: isreal(:, :, :), fresh(:, :, :)
+    integer :: b, p, m, lo(3), hi(3), n(3), v0
+    p = cut%p
+    v0 = ph%lo(p) - 1
+    do b = 1, size(blocks)
+      if (gf%dormant(b)) cycle
+      associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
+        n = blk%n
+        lo = 1 - blk%lay%ng
+        hi = n + blk%lay%ng
+        call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
+        call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
+          w%bigphi(:, :, :, p), w%owner(:, :, :, p))
+        call cut_geometry(cut, b, blk, w%bigphi(:, :, :, p), cut%ext(b)%a)
+        if (.not. cut%started) then
+          do m = 1, ph%nflow
+            cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = f%alpha * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
+          end do
+          cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
+        end if
+        if (states) call cut_donate(blk, ph, p, cut%ext(b)%a)
+      end associate
+    end do
+    cut%started = .true.
+    if (.not. states) return
+    call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
+    do b = 1, size(blocks)
+      if (gf%dormant(b)) then
+        ! dry: its step-start states (a block that fell dormant in this step held content)
+        n = blocks(b)%n
+        blocks(b)%q(1:n(1), 1:n(2), 1:n(3), ph%lo(p):ph%hi(p)) = &
+          blocks(b)%q0(:, :, :, ph%lo(p):ph%hi(p))
+        cut%c(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
+        if (final) cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
+        cycle
+      end if
+      associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
+        n = blk%n
+        lo = 1 - blk%lay%ng
+        hi = n + blk%lay%ng
+        call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
+        call cut_open(cut, b, blk, ph, cut%ext(b)%a, reshape([bc%lo == bc_outflow, &
+          bc%hi == bc_outflow], [2, 3], order=[2, 1]), failed)
+        if (ph%strong(p)) then
+          call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
+            w%bigphi(:, :, :, p), w%owner(:, :, :, p))
+          isreal = w%bigphi(1:n(1), 1:n(2), 1:n(3), p) < 0.0_wp
+          fresh = isreal .and. .not. cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) > 0.0_wp
+          call plastic_correction(blk%lay, ph%eos(p), ph%st(p), thermal, dt, &
+            blk%q(:, :, :, ph%lo(p):ph%hi(p)), isreal, fresh)
+          do m = n_euler + 1, ph%nflow
+            cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = f%alpha * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
+          end do
+        end if
+        if (final) then
+          cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = cut%c(1:n(1), 1:n(2), 1:n(3), :, b)
+          cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
+          call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
+        end if
+      end associate
+    end do
+  end subroutine cut_stage
 
 end module m_gfm_stage

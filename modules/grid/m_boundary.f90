@@ -227,6 +227,11 @@ contains
               end do
             end if
             rho = q(i, j, k, o + i_rho)
+            if (.not. rho > 0.0_wp) then
+              ! no material (a cut-cell phase's content beyond its surface, m_gfm_cut)
+              q(i, j, k, o + imom) = -q(i, j, k, o + imom)
+              cycle
+            end if
             un_old = q(i, j, k, o + imom) / rho
             un_new = 2.0_wp * vwall - un_old
             q(i, j, k, o + imom) = rho * un_new

@@ -37,8 +37,8 @@ module m_deck_schema
     'axisymmetric']
   character(len=8), parameter :: surface_flux_names(2) = [character(len=8) :: 'material', &
     'llf']
-  character(len=11), parameter :: conserve_names(3) = [character(len=11) :: 'mass_energy', &
-    'mass', 'none']
+  character(len=11), parameter :: conserve_names(4) = [character(len=11) :: 'mass_energy', &
+    'mass', 'none', 'cut_cell']
   character(len=10), parameter :: shape_names(4) = [character(len=10) :: 'box', 'sphere', &
     'cylinder', 'half_space']
 
@@ -102,7 +102,7 @@ contains
       scalar_flux_names, .true.)
     call t%add('surface_flux', c%surface_flux, "'material'", 'S, eps_p, w_c at a surface face', &
       surface_flux_names)
-    call t%add('conserve', c%conserve, "'mass_energy'", 'what the conservation fix returns', &
+    call t%add('conserve', c%conserve, "'mass_energy'", 'the fix returns this, or cut_cell', &
       conserve_names)
     call t%add('rk_order', c%rk_order, '3', 'Runge-Kutta order, 1 to 3')
     call t%add('cfl', c%cfl, '0.5', 'Courant number')

@@ -39,12 +39,14 @@ contains
   !> The non-conservative part of the stress equation (manual/theory.md eq. 5.1):
   !> d(rho S)/dt += rho (2 G D' + W S - S W) (m_plasticity's jaumann_source), with the velocity
   !> gradient L = grad u by central differences; in axisymmetric geometry L_theta theta = u_r / r.
-  subroutine stress_rates(lay, st, offset, prim, rhs)
+  subroutine stress_rates(lay, st, offset, prim, rhs, fraction)
     type(layout_t), intent(in) :: lay
     type(strength_t), intent(in) :: st
     integer, intent(in) :: offset(3)
     real(wp), intent(in) :: prim(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(inout) :: rhs(:, :, :, :)
+    !> a cut phase's volume fractions: the rates are those of its content (m_gfm_cut)
+    real(wp), intent(in), optional :: fraction(:, :, :)
     real(wp) :: l(lay%bsize(1), 3, 3), sdev(lay%bsize(1), 6), src(lay%bsize(1), 6), h(3)
     integer :: i, j, k, a, b, c, dir(3), n
     n = lay%bsize(1)
@@ -71,6 +73,11 @@ contains
           sdev(:, c) = prim(1:n, j, k, i_sxx + c - 1)
         end do
         call jaumann_source(st, n, sdev, l, src)
+        if (present(fraction)) then
+          do c = 1, 6
+            src(:, c) = src(:, c) * fraction(:, j, k)
+          end do
+        end if
         do c = 1, 6
           rhs(:, j, k, i_sxx + c - 1) = rhs(:, j, k, i_sxx + c - 1) + prim(1:n, j, k, i_rho) &
             * src(:, c)

@@ -20,8 +20,8 @@ module m_euler
   use m_layout, only: layout_t, cell_volume
   implicit none
   private
-  public :: numerics_t, euler_work_t, euler_work_init, euler_rhs, euler_max_rate
-  public :: rk_stage_update, rk_weights
+  public :: numerics_t, euler_work_t, cut_faces_t, euler_work_init, euler_rhs, euler_max_rate
+  public :: rk_stage_update, rk_weights, rk_blend
 
   !> The scheme choices of the right-hand side (m_numerics_defaults resolves the deck's)
   type :: numerics_t
@@ -49,6 +49,16 @@ module m_euler
     !> conservation fix of the ghost-fluid method (m_gfm_conserve)
     real(wp) :: bflux(2) = 0.0_wp
   end type euler_work_t
+
+  !> The cut-cell geometry of one phase on one block (m_levelset_cut, m_gfm_cut): the wet
+  !> part of each x, y and z face (ax(0:n1, n2, n3), ...), of each cell (alpha), and the
+  !> planar fraction (the axisymmetric hoop source). Given to euler_rhs, the face fluxes are
+  !> weighted by the apertures and the sources by the fractions: rhs is then the rate of the
+  !> phase's content per cell volume (a free surface exchanges nothing across the cut).
+  type :: cut_faces_t
+    real(wp), allocatable :: ax(:, :, :), ay(:, :, :), az(:, :, :)
+    real(wp), allocatable :: alpha(:, :, :), plane(:, :, :)
+  end type cut_faces_t
 
 contains
 
@@ -78,7 +88,7 @@ contains
   !> first order; failed is set (and the rest skipped) when even the cell values next to a
   !> face are not admissible: the stage cannot go on and the caller recomputes the step.
   subroutine euler_rhs(lay, eos, st, num, q, rhs, offset, wall, vwall, work, nfallback, &
-      failed, bigphi, trouble)
+      failed, bigphi, trouble, cut)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st    !< strength (used when q carries the stress)
@@ -97,6 +107,8 @@ contains
     !> cells of the interior whose last update was inadmissible (the cell-local fallback,
     !> m_timeloop): every face of theirs is reconstructed at first order
     logical, intent(in), optional :: trouble(:, :, :)
+    !> the phase's cut-cell geometry: rhs is the rate of its content (m_gfm_cut)
+    type(cut_faces_t), intent(in), optional :: cut
     integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m, c, nc
     real(wp) :: rdx, r
     lo = 1 - lay%ng
@@ -150,6 +162,7 @@ contains
           vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
           work%er, work%cl, work%cr, work%f, nfallback, failed)
         if (failed) return
+        if (present(cut)) call wet_faces(d, c, nb, n, work%f)
         if (d == 1) then
           call scatter_x(c, nb, n, work%f)
         else
@@ -163,6 +176,14 @@ contains
         do j = 1, lay%bsize(2)
           do i = 1, lay%bsize(1)
             r = lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1)
+            if (present(cut)) then
+              ! a cut cell: the hoop stress over its wet part, of planar area plane dr dz
+              rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + cut%plane(i, j, k) / r &
+                * work%prim(i, j, k, 5)
+              if (nv > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
+                - cut%plane(i, j, k) / r * work%prim(i, j, k, i_szz)
+              cycle
+            end if
             rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + work%prim(i, j, k, 5) / r
             ! with strength the hoop stress is p - S_theta theta (S_zz holds the hoop one)
             if (nv > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
@@ -172,9 +193,34 @@ contains
       end do
     end if
 
-    if (nv > n_euler) call stress_rates(lay, st, offset, work%prim, rhs)
+    if (nv > n_euler) then
+      if (present(cut)) then
+        call stress_rates(lay, st, offset, work%prim, rhs, cut%alpha)
+      else
+        call stress_rates(lay, st, offset, work%prim, rhs)
+      end if
+    end if
 
   contains
+
+    !> The fluxes of a bundle times the wet part of their faces (the phase's cut geometry).
+    subroutine wet_faces(dd, c0, nbb, nn, f)
+      integer, intent(in) :: dd, c0, nbb, nn
+      real(wp), intent(inout) :: f(nbb, 0:nn, nv)
+      integer :: mm, ii
+      do mm = 1, nv
+        do ii = 0, nn
+          select case (dd)
+          case (1)
+            f(:, ii, mm) = f(:, ii, mm) * cut%ax(ii, 1:nbb, c0)
+          case (2)
+            f(:, ii, mm) = f(:, ii, mm) * cut%ay(1:nbb, ii, c0)
+          case default
+            f(:, ii, mm) = f(:, ii, mm) * cut%az(1:nbb, c0, ii)
+          end select
+        end do
+      end do
+    end subroutine wet_faces
 
     !> The faces of a bundle whose scalars take the upwind flux (m_flux): all of them with
     !> num%scalar_flux upwind and no level sets, else those between two real cells of the
@@ -344,7 +390,8 @@ contains
         yes = offset(dd) + lay%bsize(dd) == lay%cells(dd)
       end if
       yes = yes .and. .not. lay%periodic(dd)
-      if (.not. yes .or. .not. present(bigphi)) return
+      ! a cut phase counts every face (its fluxes are weighted by their wet parts)
+      if (.not. yes .or. .not. present(bigphi) .or. present(cut)) return
       yes = bigphi(i0, j0, k0) < 0.0_wp
     end function side
 
@@ -501,6 +548,15 @@ contains
       q(1:n1, 1:n2, 1:n3, :) = q0 + dt * rhs
       return
     end if
+    a = rk_blend(stage, order)
+    b = 1.0_wp - a
+    q(1:n1, 1:n2, 1:n3, :) = a * q0 + b * (q(1:n1, 1:n2, 1:n3, :) + dt * rhs)
+  end subroutine rk_stage_update
+
+  !> The weight a of the step's start in stage `stage` (> 1) of the TVD Runge-Kutta step:
+  !> q = a q0 + (1 - a) (q + dt rhs).
+  pure real(wp) function rk_blend(stage, order) result(a)
+    integer, intent(in) :: stage, order
     if (order == 2) then
       a = 0.5_wp
     else if (stage == 2) then
@@ -508,9 +564,7 @@ contains
     else
       a = 1.0_wp / 3.0_wp
     end if
-    b = 1.0_wp - a
-    q(1:n1, 1:n2, 1:n3, :) = a * q0 + b * (q(1:n1, 1:n2, 1:n3, :) + dt * rhs)
-  end subroutine rk_stage_update
+  end function rk_blend
 
   !> The weight of each stage's right-hand side in the step that rk_stage_update makes: the
   !> step adds dt times the sum of weight(s) L(q_s) (what crossed a face in a step).

@@ -85,13 +85,16 @@ contains
   !> The interior cells of block blk that hold no admissible state for some phase (rho <= 0,
   !> c^2 <= 0 or not finite) into trouble; edge is true when one lies on a side the block
   !> shares with another block (lay: the whole grid's layout).
-  subroutine find_trouble(lay, ph, blk, trouble, nbad, edge)
+  subroutine find_trouble(lay, ph, blk, trouble, nbad, edge, content)
     type(layout_t), intent(in) :: lay
     type(phases_t), intent(in) :: ph
     type(block_t), intent(in) :: blk
     logical, intent(out) :: trouble(:, :, :)
     integer, intent(out) :: nbad
     logical, intent(out) :: edge
+    !> a phase whose variables hold its cut-cell content, not states (m_gfm_cut; 0: none):
+    !> its states are tested when they are made
+    integer, intent(in) :: content
     integer :: j, k, p, off, n, d
     logical :: lo_shared, hi_shared
     real(wp), dimension(blk%n(1)) :: rho, u, v, w, pr, e, c2
@@ -99,6 +102,7 @@ contains
     trouble = .false.
     associate (q => blk%q)
       do p = 1, ph%nphase
+        if (p == content) cycle
         off = ph%lo(p) - 1
         do k = 1, blk%n(3)
           do j = 1, blk%n(2)
