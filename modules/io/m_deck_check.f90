@@ -17,8 +17,7 @@ module m_deck_check
   use m_yield, only: strength_problem, strength_from_material, strength_model_names
   use m_eos, only: eos_names
   use m_deck_text, only: int_text, real_text, in_list, to_lower
-  use m_deck_parse, only: deck_group_t
-  use m_deck_values, only: deck_var_t
+  use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
   use m_deck_schema, only: rule, deck_table, var_index, deck_error_count, deck_has_error, &
     deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
@@ -50,9 +49,9 @@ module m_deck_check
 contains
 
   !> Resolve and check cfg as read from groups.
-  subroutine deck_check(groups, n_groups, cfg)
+  subroutine deck_check(groups, assigns, cfg)
     type(deck_group_t), intent(in) :: groups(:)
-    integer, intent(in) :: n_groups
+    type(deck_assign_t), intent(in) :: assigns(:)
     type(config_t), target, intent(inout) :: cfg
     integer :: i
     ! &run
@@ -105,13 +104,9 @@ contains
     !> Whether the first instance of group gname assigns variable vname.
     logical function given(gname, vname)
       character(len=*), intent(in) :: gname, vname
-      integer :: i, k
-      given = .false.
-      do i = 1, n_groups
-        if (groups(i)%name /= gname) cycle
-        given = any([(groups(i)%assign(k)%name == vname, k = 1, groups(i)%n)])
-        return
-      end do
+      integer :: k
+      given = any([(assigns(k)%group == first_group(groups, gname) .and. &
+        assigns(k)%name == vname, k = 1, size(assigns))])
     end function given
 
     subroutine check_domain()
@@ -121,8 +116,7 @@ contains
       nd = cfg%ndim
       call rule(.not. given('domain', 'ndim'), 'domain ndim', 'missing required value')
       ! without a &domain group at all, its other required values are the same mistake
-      if (.not. any([(groups(d)%name == 'domain', d = 1, n_groups)])) &
-        call deck_error_mark('&domain *')
+      if (first_group(groups, 'domain') == 0) call deck_error_mark('&domain *')
       call rule(nd < 1 .or. nd > 3, 'domain ndim', 'must be 1, 2 or 3' // gi(nd))
       ! the directions, cells and blocks mean nothing without a valid ndim
       if (deck_has_error('&domain ndim')) return
@@ -368,39 +362,38 @@ contains
     end subroutine check_gas_needs
 
     !> Whether the boxes of the base material (bodies that only set its initial state) cover
-    !> the whole domain: every cell of the grid that the boxes' faces make is inside one.
+    !> the whole domain: the centre of every cell of the grid that the boxes' faces make is
+    !> inside one.
     logical function base_covered() result(covered)
-      real(wp) :: edges(2 * cfg%n_bodies + 2, 3), x(3)
-      integer :: n(3), d, i, c(3), ii, jj, kk, nd
+      real(wp), allocatable :: e(:)
+      real(wp) :: x(2 * cfg%n_bodies + 2, 3), p(3)
+      integer :: n(3), d, i, j, k, b, nb, nd
       logical :: box(cfg%n_bodies)
-      covered = .false.
+      nb = cfg%n_bodies
       nd = cfg%ndim
-      box = cfg%bodies(1:cfg%n_bodies)%material == cfg%base_material &
-        .and. cfg%bodies(1:cfg%n_bodies)%shape == 'box'
+      box = cfg%bodies(1:nb)%material == cfg%base_material .and. cfg%bodies(1:nb)%shape == 'box'
       n = 1
-      do d = 1, 3
-        edges(1:2, d) = [cfg%lo(d), cfg%hi(d)]
-        if (d > cfg%ndim) cycle
-        n(d) = 2
-        do i = 1, cfg%n_bodies
-          if (.not. box(i)) cycle
-          edges(n(d) + 1:n(d) + 2, d) = max(cfg%lo(d), min(cfg%hi(d), &
-            [cfg%bodies(i)%lo(d), cfg%bodies(i)%hi(d)]))
-          n(d) = n(d) + 2
+      x = 0.0_wp
+      do d = 1, nd
+        e = [cfg%lo(d), cfg%hi(d)]
+        do b = 1, nb
+          if (box(b)) e = [e, cfg%bodies(b)%lo(d), cfg%bodies(b)%hi(d)]
         end do
-        n(d) = n(d) - 1
+        e = max(cfg%lo(d), min(cfg%hi(d), e))
+        n(d) = 0
+        do i = 1, size(e)   ! the centre of the span from each edge to the next
+          if (.not. any(e > e(i))) cycle
+          n(d) = n(d) + 1
+          x(n(d), d) = 0.5_wp * (e(i) + minval(e, e > e(i)))
+        end do
       end do
-      do kk = 1, n(3)
-        do jj = 1, n(2)
-          do ii = 1, n(1)
-            c = [ii, jj, kk]
-            ! the centre of the span between two neighbouring edges (sorted on the fly)
-            do d = 1, 3
-              x(d) = span_centre(edges(1:n(d) + 1, d), c(d))
-            end do
-            if (.not. all(x(1:nd) > cfg%lo(1:nd))) cycle   ! an empty span
-            if (.not. any([(box(i) .and. all(x(1:nd) > cfg%bodies(i)%lo(1:nd) .and. &
-              x(1:nd) < cfg%bodies(i)%hi(1:nd)), i = 1, cfg%n_bodies)])) return
+      covered = .false.
+      do k = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
+            p = [x(i, 1), x(j, 2), x(k, 3)]
+            if (.not. any([(box(b) .and. all(p(1:nd) > cfg%bodies(b)%lo(1:nd) .and. &
+              p(1:nd) < cfg%bodies(b)%hi(1:nd)), b = 1, nb)])) return
           end do
         end do
       end do
@@ -553,27 +546,6 @@ contains
     b = findloc([(mod(n, b) == 0, b = target, target / 2, -1)], .true., 1)
     b = merge(target + 1 - b, target, b > 0)
   end function default_block
-
-  !> the midpoint between the c-th and (c+1)-th smallest of e, or -huge when they are equal
-  pure real(wp) function span_centre(e, c) result(xc)
-    real(wp), intent(in) :: e(:)
-    integer, intent(in) :: c
-    real(wp) :: s(size(e)), t
-    integer :: p, q
-    s = e
-    do p = 2, size(s)
-      t = s(p)
-      q = p - 1
-      do while (q >= 1)
-        if (s(q) <= t) exit
-        s(q + 1) = s(q)
-        q = q - 1
-      end do
-      s(q + 1) = t
-    end do
-    xc = 0.5_wp * (s(c) + s(c + 1))
-    if (.not. s(c + 1) > s(c)) xc = -huge(1.0_wp)
-  end function span_centre
 
   !> ', got <x>' for a message
   function gr(x) result(t)

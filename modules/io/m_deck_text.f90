@@ -8,10 +8,8 @@ module m_deck_text
   use m_kinds, only: wp, i8
   implicit none
   private
-  public :: to_lower, edit_distance, int_text, real_text, quoted, shell_quoted, unquote
-  public :: string_end, is_digit, in_list, joined, base_name, dir_name, normal_path
-
-  character(len=1), parameter :: nl = achar(10)
+  public :: to_lower, edit_distance, int_text, real_text, quoted, shell_quoted
+  public :: in_list, joined, base_name, dir_name, normal_path
 
 contains
 
@@ -102,79 +100,34 @@ contains
     if (x < 0.0_wp) r = '-' // r
   end function real_text
 
-  !> A string as a deck value: in single quotes, inner quotes doubled.
+  !> A string as a deck value: in single quotes, inner quotes doubled (the trailing blanks
+  !> dropped).
   function quoted(t) result(r)
     character(len=*), intent(in) :: t
     character(len=:), allocatable :: r
-    r = single_quoted(t, "''")
+    r = quote_with(trim(t), "''")
   end function quoted
 
   !> A string as one word of a shell command: in single quotes, inner quotes as '\''.
   function shell_quoted(t) result(r)
     character(len=*), intent(in) :: t
     character(len=:), allocatable :: r
-    r = single_quoted(t, "'\''")
+    r = quote_with(trim(t), "'\''")
   end function shell_quoted
 
-  !> t without its trailing blanks in single quotes, each quote inside written as quote_as.
-  function single_quoted(t, quote_as) result(r)
+  function quote_with(t, quote_as) result(r)
     character(len=*), intent(in) :: t, quote_as
-    character(len=:), allocatable :: r
-    integer :: i
+    character(len=:), allocatable :: r, rest
+    integer :: k
     r = "'"
-    do i = 1, len_trim(t)
-      if (t(i:i) == "'") then
-        r = r // quote_as
-      else
-        r = r // t(i:i)
-      end if
+    rest = t
+    do while (index(rest, "'") > 0)
+      k = index(rest, "'")
+      r = r // rest(1:k - 1) // quote_as
+      rest = rest(k + 1:)
     end do
-    r = r // "'"
-  end function single_quoted
-
-  !> The characters of a quoted deck string (doubled quotes made single).
-  function unquote(t) result(r)
-    character(len=*), intent(in) :: t
-    character(len=:), allocatable :: r
-    integer :: i
-    r = ''
-    if (len(t) < 2) return
-    i = 2
-    do while (i < len(t))
-      r = r // t(i:i)
-      if (t(i:i) == t(1:1)) i = i + 1
-      i = i + 1
-    end do
-  end function unquote
-
-  !> Position of the quote closing the string that opens at p, or 0 if the line ends first.
-  !> A doubled quote inside the string stands for one quote character.
-  integer function string_end(s, p) result(e)
-    character(len=*), intent(in) :: s
-    integer, intent(in) :: p
-    integer :: q
-    e = 0
-    q = p + 1
-    do while (q <= len(s))
-      if (s(q:q) == nl) return
-      if (s(q:q) == s(p:p)) then
-        if (q < len(s)) then
-          if (s(q + 1:q + 1) == s(p:p)) then
-            q = q + 2
-            cycle
-          end if
-        end if
-        e = q
-        return
-      end if
-      q = q + 1
-    end do
-  end function string_end
-
-  pure logical function is_digit(c)
-    character(len=1), intent(in) :: c
-    is_digit = (c >= '0' .and. c <= '9')
-  end function is_digit
+    r = r // rest // "'"
+  end function quote_with
 
   !> Whether word is one of the items of a list written 'a, b, c'.
   logical function in_list(word, list)

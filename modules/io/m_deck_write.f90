@@ -10,7 +10,7 @@ module m_deck_write
   use m_errors, only: stop_collective, fatal
   use m_comm, only: comm_is_root
   use m_deck_text, only: shell_quoted, base_name, dir_name, normal_path
-  use m_deck_values, only: deck_var_t, value_text
+  use m_deck_parse, only: deck_var_t, value_text
   use m_deck_schema, only: error_line, deck_table, group_names
   implicit none
   private
