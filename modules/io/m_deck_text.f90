@@ -1,7 +1,7 @@
 !> The small text helpers of the deck modules (DESIGN section 6): lower case, the edit
 !> distance behind "did you mean" hints, integers and reals as deck text (a real in the
-!> shortest form that reads back bit for bit), quoting for a deck or for the shell, the end
-!> of a quoted string, membership of a list written 'a, b, c', and path names. Text in,
+!> shortest form that reads back bit for bit), quoting for a deck or for the shell,
+!> membership of a list written 'a, b, c', and path names. Text in,
 !> text out: it knows nothing of groups, variables or the configuration, does no I/O and
 !> never stops the run.
 module m_deck_text
@@ -150,58 +150,37 @@ contains
   function base_name(path) result(r)
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: r
-    integer :: k
+    integer :: k, j
     r = trim(path)
-    do while (len(r) > 1)
-      if (r(len(r):len(r)) /= '/') exit
-      r = r(1:len(r) - 1)
+    k = len(r)
+    do while (k > 1)   ! trailing slashes
+      if (r(k:k) /= '/') exit
+      k = k - 1
     end do
-    k = index(r, '/', back=.true.)
-    if (k > 0 .and. k < len(r)) r = r(k + 1:)
+    j = index(r(1:k), '/', back=.true.)
+    r = r(merge(j + 1, 1, j < k):k)
   end function base_name
 
   !> The folder part of a path, normalised ('./a//b/c.h5' -> 'a/b', 'c.h5' -> '.').
   function dir_name(path) result(r)
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: r
-    integer :: k
-    k = index(trim(path), '/', back=.true.)
-    if (k == 0) then
-      r = '.'
-    else
-      r = normal_path(path(1:k))
-    end if
+    r = normal_path(path(1:index(trim(path), '/', back=.true.)))
   end function dir_name
 
   !> A path written one way only: no '//', no '/./', no leading './', no trailing '/'.
   function normal_path(path) result(r)
     character(len=*), intent(in) :: path
-    character(len=:), allocatable :: r
+    character(len=:), allocatable :: r, rest
     integer :: k
-    r = trim(adjustl(path))
-    do
-      k = index(r, '//')
-      if (k == 0) exit
-      r = r(1:k) // r(k + 2:)
+    rest = trim(adjustl(path)) // '/'
+    r = repeat('/', merge(1, 0, rest(1:1) == '/' .and. len(rest) > 1))
+    do while (len(rest) > 0)   ! each component but '' and '.'
+      k = index(rest, '/')
+      if (k > 1 .and. rest(1:k - 1) /= '.') r = r // rest(1:k - 1) // '/'
+      rest = rest(k + 1:)
     end do
-    do
-      k = index(r, '/./')
-      if (k == 0) exit
-      r = r(1:k) // r(k + 3:)
-    end do
-    do while (len(r) > 2)
-      if (r(1:2) /= './') exit
-      r = r(3:)
-    end do
-    do while (len(r) > 1)
-      if (r(len(r):len(r)) == '/') then
-        r = r(1:len(r) - 1)
-      else if (len(r) > 2 .and. r(len(r) - 1:len(r)) == '/.') then
-        r = r(1:len(r) - 2)
-      else
-        exit
-      end if
-    end do
+    if (len(r) > 1) r = r(1:len(r) - 1)
     if (len(r) == 0) r = '.'
   end function normal_path
 
