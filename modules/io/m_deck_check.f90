@@ -55,12 +55,11 @@ contains
     type(config_t), target, intent(inout) :: cfg
     integer :: i
     ! &run
-    if (is_set(cfg%t_end)) then
-      call rule(.not. cfg%t_end > 0.0_wp, 'run t_end', 'must be > 0' // gr(cfg%t_end))
-    else
-      call rule(.not. given('run', 'max_steps'), 'run t_end', &
-        'missing required value (give t_end or max_steps)')
-    end if
+    ! (a real left unset is not written in a message: gr(unset) would overflow)
+    if (is_set(cfg%t_end)) call rule(.not. cfg%t_end > 0.0_wp, 'run t_end', 'must be > 0' &
+      // gr(cfg%t_end))
+    call rule(.not. is_set(cfg%t_end) .and. .not. given('run', 'max_steps'), 'run t_end', &
+      'missing required value (give t_end or max_steps)')
     call rule(cfg%max_steps < 0, 'run max_steps', 'must be >= 0' // gi(cfg%max_steps))
     call rule(cfg%wall_limit < 0.0_wp, 'run wall_limit', 'must be >= 0 (0 = no limit)' &
       // gr(cfg%wall_limit))
@@ -112,7 +111,7 @@ contains
     subroutine check_domain()
       character(len=:), allocatable :: nd_text, dd
       integer :: d, nd
-      logical :: lo_periodic, hi_periodic
+      logical :: lo_periodic, hi_periodic, axisymmetric
       nd = cfg%ndim
       call rule(.not. given('domain', 'ndim'), 'domain ndim', 'missing required value')
       ! without a &domain group at all, its other required values are the same mistake
@@ -121,12 +120,11 @@ contains
       ! the directions, cells and blocks mean nothing without a valid ndim
       if (deck_has_error('&domain ndim')) return
       nd_text = 'ndim = ' // int_text(nd)
-      if (cfg%geometry == 'axisymmetric') then
-        call rule(nd /= 2, 'domain geometry', "'axisymmetric' needs ndim = 2 (x = r, y = z), " &
-          // 'got ' // nd_text)
-        call rule(cfg%lo(1) < 0.0_wp, 'domain lo(1)', 'must be >= 0 in axisymmetric ' &
-          // 'geometry (x is the radius)' // gr(cfg%lo(1)))
-      end if
+      axisymmetric = cfg%geometry == 'axisymmetric'
+      call rule(axisymmetric .and. nd /= 2, 'domain geometry', "'axisymmetric' needs ndim = 2 " &
+        // '(x = r, y = z), got ' // nd_text)
+      call rule(axisymmetric .and. cfg%lo(1) < 0.0_wp, 'domain lo(1)', 'must be >= 0 in ' &
+        // 'axisymmetric geometry (x is the radius)' // gr(cfg%lo(1)))
       call rule(.not. given('domain', 'cells'), 'domain cells', 'missing required value')
       call rule(.not. given('domain', 'hi'), 'domain hi', 'missing required value')
       do d = 1, 3
@@ -165,10 +163,10 @@ contains
           // trim(cfg%bc_lo(d)) // "' but bc_hi" // dd // " = '" // trim(cfg%bc_hi(d)) &
           // "' (both or neither must be 'periodic')")
       end do
-      if (cfg%geometry == 'axisymmetric' .and. .not. cfg%lo(1) > 0.0_wp &
-        .and. .not. deck_has_error('&domain lo')) call rule(cfg%bc_lo(1) /= 'symmetry', &
-        'domain bc_lo(1)', "must be 'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), " &
-        // "got '" // trim(cfg%bc_lo(1)) // "'")
+      call rule(axisymmetric .and. .not. cfg%lo(1) > 0.0_wp .and. .not. deck_has_error( &
+        '&domain lo') .and. cfg%bc_lo(1) /= 'symmetry', 'domain bc_lo(1)', "must be " &
+        // "'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), got '" &
+        // trim(cfg%bc_lo(1)) // "'")
       call rule(cfg%bc_rise_time < 0.0_wp, 'domain bc_rise_time', 'must be >= 0' &
         // gr(cfg%bc_rise_time))
     end subroutine check_domain
@@ -264,12 +262,9 @@ contains
       call at_least(m%jc_n, 'jc_n', .true., 0.0_wp, in_m)
       call at_least(m%jc_c, 'jc_c', .false., 0.0_wp, in_m)
       call at_least(m%jc_m, 'jc_m', .true., 0.0_wp, in_m)
-      if (is_set(m%T0)) then
-        if (is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, 'material t_melt', &
-          'must be > T0 = ' // real_text(m%T0) // in_m // gr(m%t_melt))
-      else
-        call at_least(m%t_melt, 't_melt', .true., 0.0_wp, in_m)
-      end if
+      if (is_set(m%T0) .and. is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, &
+        'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // gr(m%t_melt))
+      if (.not. is_set(m%T0)) call at_least(m%t_melt, 't_melt', .true., 0.0_wp, in_m)
       call at_least(m%eps_rate0, 'eps_rate0', .true., 0.0_wp, in_m)
       call at_least(m%vp_chi, 'vp_chi', .true., 0.0_wp, in_m)
       call at_least(m%vp_n, 'vp_n', .true., 0.0_wp, in_m)
@@ -407,19 +402,14 @@ contains
     !> is off; set to .true., some material in use must need it. Stress and plastic-strain
     !> output fields need strength on.
     subroutine check_physics()
-      logical :: needs_strength, needs_thermal
+      logical :: used(cfg%n_materials), needs_strength, needs_thermal
       integer :: k
-      needs_strength = .false.
-      needs_thermal = .false.
-      do k = 1, cfg%n_materials
-        associate(m => cfg%materials(k))
-          if (.not. material_used(m%name)) cycle
-          if (m%strength_model /= 'none') needs_strength = .true.
-          if (m%strength_model == 'johnson_cook') needs_thermal = .true.
-          if (in_list(m%strength_model, plastic_models) .and. m%taylor_quinney > 0.0_wp) &
-            needs_thermal = .true.
-        end associate
-      end do
+      associate(m => cfg%materials(1:cfg%n_materials))
+        used = [(material_used(m(k)%name), k = 1, size(m))]
+        needs_strength = any(used .and. m%strength_model /= 'none')
+        needs_thermal = any(used .and. (m%strength_model == 'johnson_cook' .or. &
+          (in_list(m%strength_model, plastic_models) .and. m%taylor_quinney > 0.0_wp)))
+      end associate
       if (.not. given('physics', 'strength')) cfg%strength = needs_strength
       call rule(cfg%strength .and. .not. needs_strength, 'physics strength', '.true. but no ' &
         // "material in use has a strength_model other than 'none' (leave strength out: it " &
@@ -468,12 +458,11 @@ contains
           call rule(len_trim(b%material) == 0, 'body material', 'missing required value' // in_b)
           call rule(len_trim(b%shape) == 0, 'body shape', 'missing required value' // in_b)
           what = 'must be > 0 for a ' // trim(b%shape) // in_b
-          if (b%shape == 'box') then
-            do d = 1, cfg%ndim
-              call rule(.not. b%hi(d) > b%lo(d), 'body hi(' // int_text(d) // ')', 'must be > ' &
-                // 'lo(' // int_text(d) // ') = ' // real_text(b%lo(d)) // in_b // gr(b%hi(d)))
-            end do
-          end if
+          do d = 1, cfg%ndim
+            call rule(b%shape == 'box' .and. .not. b%hi(d) > b%lo(d), 'body hi(' // int_text(d) &
+              // ')', 'must be > lo(' // int_text(d) // ') = ' // real_text(b%lo(d)) // in_b &
+              // gr(b%hi(d)))
+          end do
           call rule((b%shape == 'sphere' .or. b%shape == 'cylinder') .and. .not. &
             b%radius > 0.0_wp, 'body radius', what // gr(b%radius))
           call rule(b%shape == 'cylinder' .and. .not. b%length > 0.0_wp, 'body length', what &

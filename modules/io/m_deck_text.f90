@@ -130,7 +130,7 @@ contains
   end function quote_with
 
   !> Whether word is one of the items of a list written 'a, b, c'.
-  logical function in_list(word, list)
+  elemental logical function in_list(word, list)
     character(len=*), intent(in) :: word, list
     in_list = len_trim(word) > 0 .and. index(', ' // list // ',', ', ' // trim(word) // ',') > 0
   end function in_list
