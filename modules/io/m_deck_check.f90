@@ -17,8 +17,7 @@ module m_deck_check
   use m_yield, only: strength_problem, strength_from_material, strength_model_names
   use m_eos, only: eos_names
   use m_deck_text, only: int_text, real_text, in_list, to_lower
-  use m_deck_parse, only: deck_group_t
-  use m_deck_values, only: deck_var_t
+  use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
   use m_deck_schema, only: rule, deck_table, var_index, deck_error_count, deck_has_error, &
     deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
@@ -50,18 +49,17 @@ module m_deck_check
 contains
 
   !> Resolve and check cfg as read from groups.
-  subroutine deck_check(groups, n_groups, cfg)
+  subroutine deck_check(groups, assigns, cfg)
     type(deck_group_t), intent(in) :: groups(:)
-    integer, intent(in) :: n_groups
+    type(deck_assign_t), intent(in) :: assigns(:)
     type(config_t), target, intent(inout) :: cfg
     integer :: i
     ! &run
-    if (is_set(cfg%t_end)) then
-      call rule(.not. cfg%t_end > 0.0_wp, 'run t_end', 'must be > 0' // gr(cfg%t_end))
-    else
-      call rule(.not. given('run', 'max_steps'), 'run t_end', &
-        'missing required value (give t_end or max_steps)')
-    end if
+    ! (a real left unset is not written in a message: gr(unset) would overflow)
+    if (is_set(cfg%t_end)) call rule(.not. cfg%t_end > 0.0_wp, 'run t_end', 'must be > 0' &
+      // gr(cfg%t_end))
+    call rule(.not. is_set(cfg%t_end) .and. .not. given('run', 'max_steps'), 'run t_end', &
+      'missing required value (give t_end or max_steps)')
     call rule(cfg%max_steps < 0, 'run max_steps', 'must be >= 0' // gi(cfg%max_steps))
     call rule(cfg%wall_limit < 0.0_wp, 'run wall_limit', 'must be >= 0 (0 = no limit)' &
       // gr(cfg%wall_limit))
@@ -105,34 +103,28 @@ contains
     !> Whether the first instance of group gname assigns variable vname.
     logical function given(gname, vname)
       character(len=*), intent(in) :: gname, vname
-      integer :: i, k
-      given = .false.
-      do i = 1, n_groups
-        if (groups(i)%name /= gname) cycle
-        given = any([(groups(i)%assign(k)%name == vname, k = 1, groups(i)%n)])
-        return
-      end do
+      integer :: k
+      given = any([(assigns(k)%group == first_group(groups, gname) .and. &
+        assigns(k)%name == vname, k = 1, size(assigns))])
     end function given
 
     subroutine check_domain()
       character(len=:), allocatable :: nd_text, dd
       integer :: d, nd
-      logical :: lo_periodic, hi_periodic
+      logical :: lo_periodic, hi_periodic, axisymmetric
       nd = cfg%ndim
       call rule(.not. given('domain', 'ndim'), 'domain ndim', 'missing required value')
       ! without a &domain group at all, its other required values are the same mistake
-      if (.not. any([(groups(d)%name == 'domain', d = 1, n_groups)])) &
-        call deck_error_mark('&domain *')
+      if (first_group(groups, 'domain') == 0) call deck_error_mark('&domain *')
       call rule(nd < 1 .or. nd > 3, 'domain ndim', 'must be 1, 2 or 3' // gi(nd))
       ! the directions, cells and blocks mean nothing without a valid ndim
       if (deck_has_error('&domain ndim')) return
       nd_text = 'ndim = ' // int_text(nd)
-      if (cfg%geometry == 'axisymmetric') then
-        call rule(nd /= 2, 'domain geometry', "'axisymmetric' needs ndim = 2 (x = r, y = z), " &
-          // 'got ' // nd_text)
-        call rule(cfg%lo(1) < 0.0_wp, 'domain lo(1)', 'must be >= 0 in axisymmetric ' &
-          // 'geometry (x is the radius)' // gr(cfg%lo(1)))
-      end if
+      axisymmetric = cfg%geometry == 'axisymmetric'
+      call rule(axisymmetric .and. nd /= 2, 'domain geometry', "'axisymmetric' needs ndim = 2 " &
+        // '(x = r, y = z), got ' // nd_text)
+      call rule(axisymmetric .and. cfg%lo(1) < 0.0_wp, 'domain lo(1)', 'must be >= 0 in ' &
+        // 'axisymmetric geometry (x is the radius)' // gr(cfg%lo(1)))
       call rule(.not. given('domain', 'cells'), 'domain cells', 'missing required value')
       call rule(.not. given('domain', 'hi'), 'domain hi', 'missing required value')
       do d = 1, 3
@@ -171,10 +163,10 @@ contains
           // trim(cfg%bc_lo(d)) // "' but bc_hi" // dd // " = '" // trim(cfg%bc_hi(d)) &
           // "' (both or neither must be 'periodic')")
       end do
-      if (cfg%geometry == 'axisymmetric' .and. .not. cfg%lo(1) > 0.0_wp &
-        .and. .not. deck_has_error('&domain lo')) call rule(cfg%bc_lo(1) /= 'symmetry', &
-        'domain bc_lo(1)', "must be 'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), " &
-        // "got '" // trim(cfg%bc_lo(1)) // "'")
+      call rule(axisymmetric .and. .not. cfg%lo(1) > 0.0_wp .and. .not. deck_has_error( &
+        '&domain lo') .and. cfg%bc_lo(1) /= 'symmetry', 'domain bc_lo(1)', "must be " &
+        // "'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), got '" &
+        // trim(cfg%bc_lo(1)) // "'")
       call rule(cfg%bc_rise_time < 0.0_wp, 'domain bc_rise_time', 'must be >= 0' &
         // gr(cfg%bc_rise_time))
     end subroutine check_domain
@@ -270,12 +262,9 @@ contains
       call at_least(m%jc_n, 'jc_n', .true., 0.0_wp, in_m)
       call at_least(m%jc_c, 'jc_c', .false., 0.0_wp, in_m)
       call at_least(m%jc_m, 'jc_m', .true., 0.0_wp, in_m)
-      if (is_set(m%T0)) then
-        if (is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, 'material t_melt', &
-          'must be > T0 = ' // real_text(m%T0) // in_m // gr(m%t_melt))
-      else
-        call at_least(m%t_melt, 't_melt', .true., 0.0_wp, in_m)
-      end if
+      if (is_set(m%T0) .and. is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, &
+        'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // gr(m%t_melt))
+      if (.not. is_set(m%T0)) call at_least(m%t_melt, 't_melt', .true., 0.0_wp, in_m)
       call at_least(m%eps_rate0, 'eps_rate0', .true., 0.0_wp, in_m)
       call at_least(m%vp_chi, 'vp_chi', .true., 0.0_wp, in_m)
       call at_least(m%vp_n, 'vp_n', .true., 0.0_wp, in_m)
@@ -368,39 +357,38 @@ contains
     end subroutine check_gas_needs
 
     !> Whether the boxes of the base material (bodies that only set its initial state) cover
-    !> the whole domain: every cell of the grid that the boxes' faces make is inside one.
+    !> the whole domain: the centre of every cell of the grid that the boxes' faces make is
+    !> inside one.
     logical function base_covered() result(covered)
-      real(wp) :: edges(2 * cfg%n_bodies + 2, 3), x(3)
-      integer :: n(3), d, i, c(3), ii, jj, kk, nd
+      real(wp), allocatable :: e(:)
+      real(wp) :: x(2 * cfg%n_bodies + 2, 3), p(3)
+      integer :: n(3), d, i, j, k, b, nb, nd
       logical :: box(cfg%n_bodies)
-      covered = .false.
+      nb = cfg%n_bodies
       nd = cfg%ndim
-      box = cfg%bodies(1:cfg%n_bodies)%material == cfg%base_material &
-        .and. cfg%bodies(1:cfg%n_bodies)%shape == 'box'
+      box = cfg%bodies(1:nb)%material == cfg%base_material .and. cfg%bodies(1:nb)%shape == 'box'
       n = 1
-      do d = 1, 3
-        edges(1:2, d) = [cfg%lo(d), cfg%hi(d)]
-        if (d > cfg%ndim) cycle
-        n(d) = 2
-        do i = 1, cfg%n_bodies
-          if (.not. box(i)) cycle
-          edges(n(d) + 1:n(d) + 2, d) = max(cfg%lo(d), min(cfg%hi(d), &
-            [cfg%bodies(i)%lo(d), cfg%bodies(i)%hi(d)]))
-          n(d) = n(d) + 2
+      x = 0.0_wp
+      do d = 1, nd
+        e = [cfg%lo(d), cfg%hi(d)]
+        do b = 1, nb
+          if (box(b)) e = [e, cfg%bodies(b)%lo(d), cfg%bodies(b)%hi(d)]
         end do
-        n(d) = n(d) - 1
+        e = max(cfg%lo(d), min(cfg%hi(d), e))
+        n(d) = 0
+        do i = 1, size(e)   ! the centre of the span from each edge to the next
+          if (.not. any(e > e(i))) cycle
+          n(d) = n(d) + 1
+          x(n(d), d) = 0.5_wp * (e(i) + minval(e, e > e(i)))
+        end do
       end do
-      do kk = 1, n(3)
-        do jj = 1, n(2)
-          do ii = 1, n(1)
-            c = [ii, jj, kk]
-            ! the centre of the span between two neighbouring edges (sorted on the fly)
-            do d = 1, 3
-              x(d) = span_centre(edges(1:n(d) + 1, d), c(d))
-            end do
-            if (.not. all(x(1:nd) > cfg%lo(1:nd))) cycle   ! an empty span
-            if (.not. any([(box(i) .and. all(x(1:nd) > cfg%bodies(i)%lo(1:nd) .and. &
-              x(1:nd) < cfg%bodies(i)%hi(1:nd)), i = 1, cfg%n_bodies)])) return
+      covered = .false.
+      do k = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
+            p = [x(i, 1), x(j, 2), x(k, 3)]
+            if (.not. any([(box(b) .and. all(p(1:nd) > cfg%bodies(b)%lo(1:nd) .and. &
+              p(1:nd) < cfg%bodies(b)%hi(1:nd)), b = 1, nb)])) return
           end do
         end do
       end do
@@ -414,19 +402,14 @@ contains
     !> is off; set to .true., some material in use must need it. Stress and plastic-strain
     !> output fields need strength on.
     subroutine check_physics()
-      logical :: needs_strength, needs_thermal
+      logical :: used(cfg%n_materials), needs_strength, needs_thermal
       integer :: k
-      needs_strength = .false.
-      needs_thermal = .false.
-      do k = 1, cfg%n_materials
-        associate(m => cfg%materials(k))
-          if (.not. material_used(m%name)) cycle
-          if (m%strength_model /= 'none') needs_strength = .true.
-          if (m%strength_model == 'johnson_cook') needs_thermal = .true.
-          if (in_list(m%strength_model, plastic_models) .and. m%taylor_quinney > 0.0_wp) &
-            needs_thermal = .true.
-        end associate
-      end do
+      associate(m => cfg%materials(1:cfg%n_materials))
+        used = [(material_used(m(k)%name), k = 1, size(m))]
+        needs_strength = any(used .and. m%strength_model /= 'none')
+        needs_thermal = any(used .and. (m%strength_model == 'johnson_cook' .or. &
+          (in_list(m%strength_model, plastic_models) .and. m%taylor_quinney > 0.0_wp)))
+      end associate
       if (.not. given('physics', 'strength')) cfg%strength = needs_strength
       call rule(cfg%strength .and. .not. needs_strength, 'physics strength', '.true. but no ' &
         // "material in use has a strength_model other than 'none' (leave strength out: it " &
@@ -475,12 +458,11 @@ contains
           call rule(len_trim(b%material) == 0, 'body material', 'missing required value' // in_b)
           call rule(len_trim(b%shape) == 0, 'body shape', 'missing required value' // in_b)
           what = 'must be > 0 for a ' // trim(b%shape) // in_b
-          if (b%shape == 'box') then
-            do d = 1, cfg%ndim
-              call rule(.not. b%hi(d) > b%lo(d), 'body hi(' // int_text(d) // ')', 'must be > ' &
-                // 'lo(' // int_text(d) // ') = ' // real_text(b%lo(d)) // in_b // gr(b%hi(d)))
-            end do
-          end if
+          do d = 1, cfg%ndim
+            call rule(b%shape == 'box' .and. .not. b%hi(d) > b%lo(d), 'body hi(' // int_text(d) &
+              // ')', 'must be > lo(' // int_text(d) // ') = ' // real_text(b%lo(d)) // in_b &
+              // gr(b%hi(d)))
+          end do
           call rule((b%shape == 'sphere' .or. b%shape == 'cylinder') .and. .not. &
             b%radius > 0.0_wp, 'body radius', what // gr(b%radius))
           call rule(b%shape == 'cylinder' .and. .not. b%length > 0.0_wp, 'body length', what &
@@ -553,27 +535,6 @@ contains
     b = findloc([(mod(n, b) == 0, b = target, target / 2, -1)], .true., 1)
     b = merge(target + 1 - b, target, b > 0)
   end function default_block
-
-  !> the midpoint between the c-th and (c+1)-th smallest of e, or -huge when they are equal
-  pure real(wp) function span_centre(e, c) result(xc)
-    real(wp), intent(in) :: e(:)
-    integer, intent(in) :: c
-    real(wp) :: s(size(e)), t
-    integer :: p, q
-    s = e
-    do p = 2, size(s)
-      t = s(p)
-      q = p - 1
-      do while (q >= 1)
-        if (s(q) <= t) exit
-        s(q + 1) = s(q)
-        q = q - 1
-      end do
-      s(q + 1) = t
-    end do
-    xc = 0.5_wp * (s(c) + s(c + 1))
-    if (.not. s(c + 1) > s(c)) xc = -huge(1.0_wp)
-  end function span_centre
 
   !> ', got <x>' for a message
   function gr(x) result(t)

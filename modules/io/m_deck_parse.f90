@@ -1,330 +1,470 @@
-!> The lexical side of deck reading (DESIGN section 6): it turns the text of a namelist deck
-!> into groups (`&name ... /`) of single assignments (`name[(index)] = value-text`), each
-!> with the line it came from. This is done by hand, before any namelist READ, so that every
-!> complaint can name the group, the variable and the line, which gfortran's own namelist
-!> reader cannot do; a syntax error comes back with the offending line echoed. It does not
-!> check a value against its variable (m_deck_values), knows nothing of which groups and
-!> variables exist (m_deck_schema) and never stops the run: it returns reasons.
+!> The lexical layer of deck reading (DESIGN section 6), done by hand rather than by a
+!> namelist READ so that every complaint can name the group, the variable and the line.
+!> One tokenizer turns text into tokens (words, strings, `&`, `/`, `,`, `=`, subscripts)
+!> with their lines; from them deck_split makes groups (`&name ... /`) of single
+!> assignments `name[(index)] = value-text` (a syntax error comes back with its line
+!> echoed), and check_value says why a value text cannot be assigned to a variable (index
+!> syntax and range, the number of values, r*c repeats included, the form of each constant:
+!> an integer or a real that fits, a logical, a quoted string no longer than the variable;
+!> gfortran's own reader accepts `3` for a string, `1` for a logical and `1e999` for a real,
+!> which then traps). read_value reads a checked text into the component that a table line
+!> (deck_var_t) points at, list-directed as a namelist would, and value_text writes it back.
+!> It knows no table (m_deck_schema) and never stops the run: it returns reasons.
 module m_deck_parse
-  use m_deck_text, only: to_lower, int_text, string_end, is_digit
+  use m_kinds, only: wp, name_len
+  use m_config, only: is_set
+  use m_deck_text, only: to_lower, int_text, real_text, quoted
   implicit none
   private
-  public :: deck_assign_t, deck_group_t
-  public :: deck_split, group_new, group_append
+  public :: deck_var_t, deck_group_t, deck_assign_t
+  public :: deck_split, first_group, check_value, read_value, value_text
 
-  !> One `name[(index)] = value` of a group; line 0 means it came from the command line.
-  type :: deck_assign_t
-    character(len=:), allocatable :: name    !< lower case
-    character(len=:), allocatable :: index   !< '' or the index text with its parentheses
-    character(len=:), allocatable :: value   !< the value text, blanks for line breaks
+  !> One table line: group and name; kind 'r' real, 'i' integer, 'l' logical, 'c' string or
+  !> 'k' keyword (a string lower-cased when read, one of `choices`, or empty when
+  !> `empty_ok`); size (1 for a scalar), the length of a string, a typical value for the
+  !> messages, the meaning; the component (one pointer associated, by type and rank) and,
+  !> for a list written only as far as it is used, the count of its entries.
+  type :: deck_var_t
+    character(len=8) :: group = ''
+    character(len=24) :: name = ''
+    character(len=1) :: kind = 'r'
+    integer :: size = 1, clen = 0
+    character(len=48) :: typical = ''
+    character(len=:), allocatable :: choices, meaning
+    logical :: empty_ok = .false.
+    real(wp), pointer :: r => null(), ra(:) => null()
+    integer, pointer :: i => null(), ia(:) => null()
+    logical, pointer :: l => null()
+    character(len=:), pointer :: c => null()
+    character(len=name_len), pointer :: ca(:) => null()
+    integer, pointer :: count => null()
+  end type deck_var_t
+
+  !> One `&name ... /` group in deck order; line 0: made for a command-line override.
+  type :: deck_group_t
+    character(len=:), allocatable :: name   !< lower case
     integer :: line = 0
+  end type deck_group_t
+
+  !> One `name[(index)] = value` of group `group` (its place in the groups); line 0: it
+  !> came from the command line. The index keeps its parentheses, the value its spacing.
+  type :: deck_assign_t
+    integer :: group = 0, line = 0
+    character(len=:), allocatable :: name, index, value
   end type deck_assign_t
 
-  !> One `&name ... /` group in deck order; line 0 means it was made for an override.
-  type :: deck_group_t
-    character(len=:), allocatable :: name    !< lower case
-    integer :: line = 0
-    integer :: n = 0
-    type(deck_assign_t), allocatable :: assign(:)
-  end type deck_group_t
+  !> kind: '&', '/', ',', '=', '(' a subscript, 'w' a word (a name, a constant, r*c, a
+  !> quoted string), '?' a string not closed on its line; first, last: where in the text
+  type :: token_t
+    character(len=1) :: kind = 'w'
+    integer :: line = 1, first = 1, last = 0
+  end type token_t
 
   character(len=1), parameter :: nl = achar(10)
 
 contains
 
-  !> Split deck text into groups. On a syntax error, err_what says what and where (with
-  !> the offending line echoed), err_group names the group it happened in ('' outside any),
-  !> and the groups found so far are returned.
-  subroutine deck_split(text, groups, n_groups, err_group, err_what)
+  !> The tokens of s; comments are blanked in s on the way.
+  subroutine tokenize(s, tok)
+    character(len=*), intent(inout) :: s
+    type(token_t), allocatable, intent(out) :: tok(:)
+    integer :: p, q, e, line
+    logical :: bad
+    allocate(tok(0))
+    p = 1
+    line = 1
+    do while (p <= len(s))
+      q = p
+      select case (s(p:p))
+      case (nl)
+        line = line + 1
+      case ('!')
+        q = p + index(s(p:) // nl, nl) - 2
+        s(p:q) = ' '
+      case ('&', '/', ',', '=')
+        tok = [tok, token_t(s(p:p), line, p, p)]
+      case ('(')
+        e = scan(s(p:), ')=' // nl)
+        if (e > 0 .and. index(s(p:), ')') == e) q = p + e - 1
+        tok = [tok, token_t(merge('(', 'w', q > p), line, p, q)]
+      case (' ')
+      case default   ! a word, the strings in it taken whole
+        bad = .false.
+        do while (q <= len(s) .and. .not. bad)
+          if (index(' ,/&=!(' // nl, s(q:q)) > 0) exit
+          if (s(q:q) == "'" .or. s(q:q) == '"') then
+            e = string_end(s, q)
+            bad = (e == 0)
+            q = merge(q - 2 + index(s(q:) // nl, nl), e, bad)   ! unclosed: the rest of the line
+          end if
+          q = q + 1
+        end do
+        tok = [tok, token_t(merge('?', 'w', bad), line, p, q - 1)]
+        q = q - 1
+      end select
+      p = q + 1
+    end do
+  end subroutine tokenize
+
+  !> Position of the quote closing the string that opens at p, or 0 if the line ends first
+  !> (a doubled quote inside stands for one quote character).
+  integer function string_end(s, p) result(e)
+    character(len=*), intent(in) :: s
+    integer, intent(in) :: p
+    e = p + 1
+    do while (e <= len(s))
+      if (s(e:e) == nl) exit
+      if (s(e:e) == s(p:p)) then
+        if (s(e:min(e + 1, len(s))) /= s(p:p) // s(p:p)) return
+        e = e + 1
+      end if
+      e = e + 1
+    end do
+    e = 0
+  end function string_end
+
+  !> Split deck text into groups and their assignments. On a syntax error, err_what says
+  !> what and where (the offending line echoed), err_group names the group it is in ('' if
+  !> none), and what was found before it is returned.
+  subroutine deck_split(text, groups, assigns, err_group, err_what)
     character(len=*), intent(in) :: text
     type(deck_group_t), allocatable, intent(out) :: groups(:)
-    integer, intent(out) :: n_groups
+    type(deck_assign_t), allocatable, intent(out) :: assigns(:)
     character(len=:), allocatable, intent(out) :: err_group, err_what
-    character(len=:), allocatable :: s, name, subscript, value
-    integer :: n, p, q, after, close_at, value_end, name_at
-    type(deck_assign_t) :: a
-
-    allocate(groups(4))
-    n_groups = 0
+    character(len=:), allocatable :: s, name, subscript
+    type(token_t), allocatable :: t(:)
+    integer :: k, n, v0, nk, last
+    allocate(groups(0), assigns(0))
     err_group = ''
     err_what = ''
-    call strip_comments(text, s)
-    n = len(s)
-    p = 1
-    outer: do
-      p = skip_space(s, p)
-      if (p > n) exit outer
-      if (s(p:p) /= '&') then
-        call syntax(p, 'text outside a group; a group starts with &name and ends with /')
+    s = blanked(text, achar(9) // achar(13))
+    call tokenize(s, t)
+    s = blanked(s, nl)
+    n = size(t)
+    t = [t, token_t('&', 0, len(s) + 1, len(s))]   ! a guard: the end of the text
+    k = 1
+    do while (k <= n)
+      if (t(k)%kind /= '&') then
+        call syntax(k, 'text outside a group; a group starts with &name and ends with /')
+        return
+      else if (t(k + 1)%kind /= 'w' .or. t(k + 1)%first /= t(k)%last + 1) then
+        call syntax(k, "'&' without a group name")
         return
       end if
-      q = p + 1
-      do while (q <= n)
-        if (.not. is_name_char(s(q:q))) exit
-        q = q + 1
-      end do
-      if (q == p + 1) then
-        call syntax(p, "'&' without a group name")
-        return
-      end if
-      call group_new(groups, n_groups, to_lower(s(p + 1:q - 1)), line_of(p))
-      err_group = groups(n_groups)%name
-      p = q
-      body: do
-        p = skip_space(s, p)
-        if (p > n) then
-          call not_closed(groups(n_groups)%line, 'the end of the file')
+      err_group = to_lower(word(k + 1))
+      groups = [groups, deck_group_t(err_group, t(k)%line)]
+      v0 = 0   ! the first token of the value being read (0: none yet), nk its name's
+      do k = k + 2, n + 1
+        if (t(k)%kind == '&') then
+          name = 'the end of the file'
+          if (k <= n) name = 'line ' // int_text(t(k)%line)
+          associate(line => groups(size(groups))%line)
+            err_what = 'syntax error: the group opened at line ' // int_text(line) &
+              // " is not closed with '/' before " // name // ': ' // line_text(line)
+          end associate
           return
-        end if
-        if (s(p:p) == '/') then
-          p = p + 1
-          exit body
-        end if
-        if (.not. assign_start(s, p, name, subscript, after)) then
-          if (s(p:p) == '&') then
-            call not_closed(groups(n_groups)%line, 'line ' // int_text(line_of(p)))
-          else
-            call syntax(p, 'expected name = value')
-          end if
-          return
-        end if
-        name_at = p
-        p = after
-        value_end = n
-        scan_value: do
-          if (p > n) then
-            call not_closed(groups(n_groups)%line, 'the end of the file')
-            return
-          end if
-          select case (s(p:p))
-          case ("'", '"')
-            close_at = string_end(s, p)
-            if (close_at == 0) then
-              call syntax(p, 'unterminated string')
+        else if (t(k)%kind == '/' .or. assign_length(k) > 0) then
+          if (v0 > 0) then   ! the value before ends here (a trailing comma only separates)
+            last = k - 1
+            do while (last >= v0 .and. t(last)%kind == ',')
+              last = last - 1
+            end do
+            if (last < v0) then
+              call syntax(nk, "no value after '='; give a value or remove the line")
               return
             end if
-            p = close_at + 1
-            cycle scan_value
-          case ('/')
-            value_end = p - 1
-            exit scan_value
-          case ('&')
-            call not_closed(groups(n_groups)%line, 'line ' // int_text(line_of(p)))
-            return
-          case ('a':'z', 'A':'Z')
-            if (index_separator(s(p - 1:p - 1))) then
-              if (assign_start(s, p, a%name, a%index, q)) then
-                value_end = p - 1
-                exit scan_value
-              end if
-            end if
-          end select
-          p = p + 1
-        end do scan_value
-        value = s(after:value_end)
-        do q = 1, len(value)
-          if (value(q:q) == nl) value(q:q) = ' '
-        end do
-        value = trim(adjustl(value))
-        ! a trailing comma only separates this value from the next name
-        do while (len(value) > 0)
-          if (value(len(value):len(value)) /= ',') exit
-          value = trim(value(1:len(value) - 1))
-        end do
-        if (len(value) == 0) then
-          call syntax(name_at, "no value after '='; give a value or remove the line")
+            name = to_lower(word(nk))
+            subscript = compact(word(nk + 1))
+            if (assign_length(nk) == 2) subscript = ''
+            assigns = [assigns, deck_assign_t(size(groups), t(nk)%line, name, subscript, &
+              s(t(v0)%first:t(last)%last))]
+          end if
+          if (t(k)%kind == '/') exit
+          nk = k
+          v0 = k + assign_length(k)
+        else if (v0 == 0) then
+          call syntax(k, 'expected name = value')
+          return
+        else if (t(k)%kind == '?') then
+          call syntax(k, 'unterminated string')
           return
         end if
-        a%name = to_lower(name)
-        a%index = subscript
-        a%value = value
-        a%line = line_of(name_at)
-        call group_append(groups(n_groups), a)
-      end do body
+      end do
+      k = k + 1
       err_group = ''
-    end do outer
+    end do
 
   contains
 
-    integer function line_of(pos)
-      integer, intent(in) :: pos
-      integer :: k
-      line_of = 1 + count([(s(k:k) == nl, k = 1, pos - 1)])
-    end function line_of
+    function word(k) result(w)
+      integer, intent(in) :: k
+      character(len=:), allocatable :: w
+      w = s(t(k)%first:t(k)%last)
+    end function word
+
+    !> 2 for `name =`, 3 for `name (index) =` at token k, else 0
+    integer function assign_length(k) result(m)
+      integer, intent(in) :: k
+      m = 0
+      if (t(k)%kind /= 'w' .or. .not. is_name(word(k))) return
+      if (t(k + 1)%kind == '=') m = 2
+      if (t(k + 1)%kind == '(' .and. t(min(k + 2, n + 1))%kind == '=') m = 3
+    end function assign_length
 
     !> line `line` of the text, fit to be echoed in a one-line message
-    function line_text(line) result(t)
+    function line_text(line) result(r)
       integer, intent(in) :: line
-      character(len=:), allocatable :: t
-      integer :: a0, k
-      a0 = 1
+      character(len=:), allocatable :: r
+      integer :: k
+      r = text
       do k = 2, line
-        a0 = a0 + index(text(a0:), nl)
+        r = r(index(r, nl) + 1:)
       end do
-      t = text(a0:)
-      if (index(t, nl) > 0) t = t(1:index(t, nl) - 1)
-      t = trim(adjustl(t))
-      do k = 1, len(t)
-        if (iachar(t(k:k)) < 32 .or. iachar(t(k:k)) > 126) t(k:k) = '?'
+      r = trim(adjustl(r(1:index(r // nl, nl) - 1)))
+      do k = 1, len(r)
+        if (iachar(r(k:k)) < 32 .or. iachar(r(k:k)) > 126) r(k:k) = '?'
       end do
-      if (len(t) > 120) t = t(1:117) // '...'
+      if (len(r) > 120) r = r(1:117) // '...'
     end function line_text
 
-    subroutine syntax(pos, what)
-      integer, intent(in) :: pos
+    subroutine syntax(k, what)
+      integer, intent(in) :: k
       character(len=*), intent(in) :: what
-      integer :: line
-      line = line_of(pos)
-      err_what = 'syntax error at line ' // int_text(line) // ' (' // what // '): ' &
-        // line_text(line)
+      err_what = 'syntax error at line ' // int_text(t(k)%line) // ' (' // what // '): ' &
+        // line_text(t(k)%line)
     end subroutine syntax
-
-    subroutine not_closed(line, before)
-      integer, intent(in) :: line
-      character(len=*), intent(in) :: before
-      err_what = 'syntax error: the group opened at line ' // int_text(line) &
-        // " is not closed with '/' before " // before // ': ' // line_text(line)
-    end subroutine not_closed
 
   end subroutine deck_split
 
-  !> Append one assignment to a group.
-  subroutine group_append(g, a)
-    type(deck_group_t), intent(inout) :: g
-    type(deck_assign_t), intent(in) :: a
-    type(deck_assign_t), allocatable :: tmp(:)
-    if (.not. allocated(g%assign)) allocate(g%assign(8))
-    if (g%n == size(g%assign)) then
-      allocate(tmp(2 * g%n))
-      tmp(1:g%n) = g%assign(1:g%n)
-      call move_alloc(tmp, g%assign)
-    end if
-    g%n = g%n + 1
-    g%assign(g%n) = a
-  end subroutine group_append
-
-  !> Append an empty group called name (line 0: made for a command-line override).
-  subroutine group_new(groups, n_groups, name, line)
-    type(deck_group_t), allocatable, intent(inout) :: groups(:)
-    integer, intent(inout) :: n_groups
+  !> The place of the first group called name in groups, 0 when there is none.
+  pure integer function first_group(groups, name) result(k)
+    type(deck_group_t), intent(in) :: groups(:)
     character(len=*), intent(in) :: name
-    integer, intent(in) :: line
-    if (.not. allocated(groups)) allocate(groups(4))
-    if (n_groups == size(groups)) call grow_groups(groups)
-    n_groups = n_groups + 1
-    groups(n_groups)%name = name
-    groups(n_groups)%line = line
-    groups(n_groups)%n = 0
-    allocate(groups(n_groups)%assign(8))
-  end subroutine group_new
+    do k = 1, size(groups)
+      if (groups(k)%name == name) return
+    end do
+    k = 0
+  end function first_group
 
-  subroutine grow_groups(groups)
-    type(deck_group_t), allocatable, intent(inout) :: groups(:)
-    type(deck_group_t), allocatable :: tmp(:)
-    allocate(tmp(2 * size(groups)))
-    tmp(1:size(groups)) = groups
-    call move_alloc(tmp, groups)
-  end subroutine grow_groups
+  pure logical function is_name(w)
+    character(len=*), intent(in) :: w
+    is_name = verify(w(1:1), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ') == 0 &
+      .and. verify(w, 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_') == 0
+  end function is_name
 
-  !> Copy of the text with comments, carriage returns and tabs blanked.
-  subroutine strip_comments(text, s)
-    character(len=*), intent(in) :: text
-    character(len=:), allocatable, intent(out) :: s
-    character(len=1) :: quote
+  !> t with each of chars as a blank
+  pure function blanked(t, chars) result(r)
+    character(len=*), intent(in) :: t, chars
+    character(len=len(t)) :: r
     integer :: i
-    logical :: in_comment
-    s = text
-    quote = ' '
-    in_comment = .false.
-    do i = 1, len(s)
-      if (s(i:i) == nl) then
-        quote = ' '
-        in_comment = .false.
-      else if (in_comment .or. s(i:i) == achar(13) .or. s(i:i) == achar(9)) then
-        s(i:i) = ' '
-      else if (quote /= ' ') then
-        if (s(i:i) == quote) quote = ' '
-      else if (s(i:i) == "'" .or. s(i:i) == '"') then
-        quote = s(i:i)
-      else if (s(i:i) == '!') then
-        in_comment = .true.
-        s(i:i) = ' '
-      end if
+    r = t
+    do i = 1, len(t)
+      if (index(chars, t(i:i)) > 0) r(i:i) = ' '
     end do
-  end subroutine strip_comments
-
-  !> Does an assignment `name [(index)] =` start at p? If so return its parts and the
-  !> position just after '='.
-  logical function assign_start(s, p, name, subscript, after) result(yes)
-    character(len=*), intent(in) :: s
-    integer, intent(in) :: p
-    character(len=:), allocatable, intent(inout) :: name, subscript
-    integer, intent(out) :: after
-    integer :: q, r, c
-    yes = .false.
-    after = p
-    if (.not. is_letter(s(p:p))) return
-    q = p
-    do while (q <= len(s))
-      if (.not. is_name_char(s(q:q))) exit
-      q = q + 1
-    end do
-    r = skip_space(s, q)
-    if (r > len(s)) return
-    if (s(r:r) == '(') then
-      c = r
-      do while (c <= len(s))
-        if (s(c:c) == ')' .or. s(c:c) == nl .or. s(c:c) == '=') exit
-        c = c + 1
-      end do
-      if (c > len(s)) return
-      if (s(c:c) /= ')') return
-      subscript = compact(s(r:c))
-      r = skip_space(s, c + 1)
-      if (r > len(s)) return
-    else
-      subscript = ''
-    end if
-    if (s(r:r) /= '=') return
-    name = s(p:q - 1)
-    after = r + 1
-    yes = .true.
-  end function assign_start
-
-  integer function skip_space(s, p) result(q)
-    character(len=*), intent(in) :: s
-    integer, intent(in) :: p
-    q = p
-    do while (q <= len(s))
-      if (s(q:q) /= ' ' .and. s(q:q) /= nl) exit
-      q = q + 1
-    end do
-  end function skip_space
-
-  logical function index_separator(c)
-    character(len=1), intent(in) :: c
-    index_separator = (c == ' ' .or. c == nl .or. c == ',')
-  end function index_separator
-
-  pure logical function is_letter(c)
-    character(len=1), intent(in) :: c
-    is_letter = (c >= 'a' .and. c <= 'z') .or. (c >= 'A' .and. c <= 'Z')
-  end function is_letter
-
-  pure logical function is_name_char(c)
-    character(len=1), intent(in) :: c
-    is_name_char = is_letter(c) .or. is_digit(c) .or. c == '_'
-  end function is_name_char
+  end function blanked
 
   !> The text without blanks (index texts such as `( 2 : 3 )`).
-  function compact(t) result(r)
+  pure recursive function compact(t) result(r)
     character(len=*), intent(in) :: t
     character(len=:), allocatable :: r
-    integer :: i
-    r = ''
-    do i = 1, len(t)
-      if (t(i:i) /= ' ' .and. t(i:i) /= nl) r = r // t(i:i)
-    end do
+    r = t
+    if (index(t, ' ') > 0) r = compact(t(:index(t, ' ') - 1) // t(index(t, ' ') + 1:))
   end function compact
+
+  !> Why `subscript` and `value` cannot be assigned to v, or '' when they can.
+  function check_value(v, subscript, value) result(why)
+    type(deck_var_t), intent(in) :: v
+    character(len=*), intent(in) :: subscript, value
+    character(len=:), allocatable :: why, s, item
+    type(token_t), allocatable :: t(:)
+    integer :: first, last, count, k, star, repeat, ios
+    why = ''
+    first = 1
+    last = v%size
+    if (len(subscript) > 0 .and. v%size == 1) why = 'is not an array: remove ' // subscript
+    if (len(subscript) > 0 .and. v%size > 1) call parse_index(subscript, first, last, why)
+    if (len(why) == 0 .and. (first < 1 .or. last > v%size .or. first > last)) &
+      why = 'index ' // subscript // ' out of range 1..' // int_text(v%size)
+    s = value
+    call tokenize(s, t)
+    count = 0
+    do k = 1, size(t)
+      if (len(why) > 0) return
+      ! a comma after a value separates; any other stands for a null value
+      if (t(k)%kind == ',' .and. k > 1) then
+        if (t(k - 1)%kind /= ',') cycle
+      end if
+      item = s(t(k)%first:t(k)%last)
+      repeat = 1
+      star = scan(item, '*''"')
+      if (star > 0) star = star * merge(1, 0, item(star:star) == '*')
+      if (star > 0) then
+        ios = 1
+        if (star <= 10 .and. integer_form('+' // item(1:star - 1))) &
+          read(item(1:star - 1), *, iostat=ios) repeat
+        if (ios /= 0 .or. repeat < 1) why = 'bad repeat count in ' // item
+        item = item(star + 1:)
+      end if
+      count = count + repeat
+      if (len(why) > 0) cycle
+      if (count > last - first + 1) then
+        why = 'too many values (at most ' // int_text(last - first + 1) // '): ' // value
+        if (last == first) why = 'takes one value, got more: ' // value
+      else if (len(item) > 0 .and. t(k)%kind /= ',') then
+        why = check_constant(v, item)
+      end if
+    end do
+    if (count == 0 .and. len(why) == 0) why = 'no value given'
+  end function check_value
+
+  function check_constant(v, c) result(why)
+    type(deck_var_t), intent(in) :: v
+    character(len=*), intent(in) :: c
+    character(len=:), allocatable :: why
+    integer :: k
+    why = ''
+    select case (v%kind)
+    case ('i', 'r')
+      if (v%kind == 'i' .and. .not. integer_form(c)) why = 'expected an integer, got ' // c
+      if (v%kind == 'r' .and. .not. real_form(c)) why = 'expected a real number, got ' // c
+      if (len(why) > 0) return
+      if (v%kind == 'i' .and. .not. integer_fits(c)) why = 'integer too large: ' // c
+      if (v%kind == 'r' .and. .not. real_fits(c)) why = 'real number out of range ' &
+        // '(|x| between 1e-300 and 1e300, or 0): ' // c
+    case ('l')
+      if (.not. any(to_lower(c) == [character(len=7) :: '.true.', '.false.', 't', 'f', &
+        'true', 'false', '.t.', '.f.'])) why = 'expected .true. or .false., got ' // c
+    case default
+      if (c(1:1) /= "'" .and. c(1:1) /= '"') then
+        why = "expected a quoted string such as 'abc', got " // c
+      else if (len(c) - 2 - count([(c(k:k) == c(1:1), k = 2, len(c) - 1)]) / 2 > v%clen) then
+        why = 'string longer than ' // int_text(v%clen) // ' characters: ' // c
+      end if
+    end select
+  end function check_constant
+
+  !> Read a value text that check_value has passed into the elements `subscript` of v's
+  !> component (list-directed, as a namelist would: r*c repeats, null values keep what is
+  !> there, and so do the elements after the last value); keywords are lower-cased.
+  subroutine read_value(v, subscript, value, ios, msg)
+    type(deck_var_t), intent(in) :: v
+    character(len=*), intent(in) :: subscript, value
+    integer, intent(out) :: ios
+    character(len=*), intent(inout) :: msg
+    character(len=:), allocatable :: t, why
+    integer :: lo, hi
+    lo = 1
+    hi = v%size
+    if (len(subscript) > 0) call parse_index(subscript, lo, hi, why)
+    t = value // ' /'
+    ios = 0
+    if (associated(v%r)) read(t, *, iostat=ios, iomsg=msg) v%r
+    if (associated(v%ra)) read(t, *, iostat=ios, iomsg=msg) v%ra(lo:hi)
+    if (associated(v%i)) read(t, *, iostat=ios, iomsg=msg) v%i
+    if (associated(v%ia)) read(t, *, iostat=ios, iomsg=msg) v%ia(lo:hi)
+    if (associated(v%l)) read(t, *, iostat=ios, iomsg=msg) v%l
+    if (associated(v%c)) read(t, *, iostat=ios, iomsg=msg) v%c
+    if (associated(v%ca)) read(t, *, iostat=ios, iomsg=msg) v%ca(lo:hi)
+    if (v%kind /= 'k') return
+    if (associated(v%c)) v%c = to_lower(v%c)
+    if (associated(v%ca)) v%ca = to_lower(v%ca)
+  end subroutine read_value
+
+  !> v's component as deck text ('' for a real left unset); a list with a count is written
+  !> as far as it is used (one entry at least).
+  function value_text(v) result(t)
+    type(deck_var_t), intent(in) :: v
+    character(len=:), allocatable :: t
+    integer :: k, n
+    t = ''
+    if (associated(v%r)) then
+      if (is_set(v%r)) t = real_text(v%r)
+    end if
+    if (associated(v%i)) t = int_text(v%i)
+    if (associated(v%l)) t = trim(merge('.true. ', '.false.', v%l))
+    if (associated(v%c)) t = quoted(v%c)
+    n = v%size
+    if (associated(v%count)) n = max(v%count, 1)
+    do k = 1, n
+      if (k > 1) t = t // ', '
+      if (associated(v%ra)) t = t // real_text(v%ra(k))
+      if (associated(v%ia)) t = t // int_text(v%ia(k))
+      if (associated(v%ca)) t = t // quoted(v%ca(k))
+    end do
+  end function value_text
+
+  !> `(i)` or `(i:j)` as first and last (why says what is wrong otherwise).
+  subroutine parse_index(subscript, first, last, why)
+    character(len=*), intent(in) :: subscript
+    integer, intent(out) :: first, last
+    character(len=:), allocatable, intent(inout) :: why
+    character(len=:), allocatable :: inner, lo, hi
+    integer :: colon
+    inner = subscript(2:len(subscript) - 1)
+    colon = index(inner, ':')
+    lo = inner(1:merge(colon - 1, len(inner), colon > 0))
+    hi = inner(colon + 1:)
+    first = 0
+    last = 0
+    if (integer_form(lo) .and. integer_form(hi) .and. len(lo) < 9 .and. len(hi) < 9) then
+      read(lo, *) first
+      read(hi, *) last
+    else
+      why = 'bad index ' // subscript // ' (expected (i) or (i:j))'
+    end if
+  end subroutine parse_index
+
+  !> [sign] digits
+  pure logical function integer_form(t)
+    character(len=*), intent(in) :: t
+    integer :: s0
+    s0 = 1
+    if (len(t) > 0) s0 = merge(2, 1, t(1:1) == '+' .or. t(1:1) == '-')
+    integer_form = len(t) >= s0 .and. verify(t(s0:), '0123456789') == 0
+  end function integer_form
+
+  pure logical function integer_fits(t)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: d
+    d = t(merge(2, 1, t(1:1) == '+' .or. t(1:1) == '-'):)
+    d = d(merge(verify(d, '0'), len(d), verify(d, '0') > 0):)   ! without leading zeros
+    integer_fits = len(d) < 10 .or. (len(d) == 10 .and. d <= '2147483647')
+  end function integer_fits
+
+  !> [sign] mantissa (digits with one '.' at most) [e|d [sign] digits]
+  pure logical function real_form(t)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: m
+    integer :: e
+    m = t(merge(2, 1, t(1:1) == '+' .or. t(1:1) == '-'):)
+    e = scan(m, 'eEdD')
+    real_form = .true.
+    if (e > 0) real_form = integer_form(m(e + 1:))
+    if (e > 0) m = m(1:e - 1)
+    real_form = real_form .and. verify(m, '0123456789.') == 0 .and. scan(m, '0123456789') > 0 &
+      .and. index(m, '.') == index(m, '.', back=.true.)
+  end function real_form
+
+  !> Whether a number of real_form lies in the safe range: 0, or 1e-300 < |x| < 1e300
+  !> (reading 1e999 would trap with -ffpe-trap=overflow).
+  logical function real_fits(t)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: m, d
+    integer :: e, exponent, dot
+    e = scan(t, 'eEdD')
+    exponent = 0
+    m = t
+    if (e > 0) then
+      real_fits = .false.
+      if (len(t) - e > 6) return
+      read(t(e + 1:), *) exponent
+      m = t(1:e - 1)
+    end if
+    m = m(verify(m, '+-'):)
+    dot = index(m // '.', '.')
+    d = m(1:dot - 1) // m(dot + 1:)
+    ! the power of ten of the first non-zero digit
+    real_fits = verify(d, '0') == 0 .or. abs(dot - 1 - verify(d, '0') + exponent) < 300
+  end function real_fits
 
 end module m_deck_parse

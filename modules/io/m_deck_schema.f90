@@ -15,7 +15,7 @@ module m_deck_schema
   use m_config, only: config_t, material_t, body_t
   use m_errors, only: stop_collective
   use m_deck_text, only: to_lower, joined
-  use m_deck_values, only: deck_var_t
+  use m_deck_parse, only: deck_var_t
   use m_boundary, only: bc_names
   use m_reconstruct, only: scheme_names
   use m_flux, only: flux_names, scalar_flux_names
@@ -48,8 +48,7 @@ module m_deck_schema
     integer :: n = 0
     type(deck_var_t) :: v(96)
   contains
-    procedure, private :: add_r, add_ra, add_i, add_ia, add_l, add_c, add_ca
-    generic :: add => add_r, add_ra, add_i, add_ia, add_l, add_c, add_ca
+    procedure :: add
   end type table_t
 
   ! what group_table binds to (its lines are read for their names, kinds and typical values)
@@ -202,86 +201,50 @@ contains
     r = ''
   end function group_of
 
-  subroutine push(t, name, kind, size, clen, typical, meaning)
-    class(table_t), intent(inout) :: t
-    character(len=*), intent(in) :: name, kind, typical, meaning
-    integer, intent(in) :: size, clen
-    t%n = t%n + 1
-    t%v(t%n) = deck_var_t(group=t%g, name=name, kind=kind, size=size, clen=clen, &
-      typical=typical, meaning=meaning)
-  end subroutine push
-
-  subroutine add_r(t, name, x, typical, meaning)
+  !> A table line binding name to the component x (a scalar or an array of real, integer,
+  !> logical or string); with choices a keyword (lower-cased, one of them; empty too when
+  !> empty_ok).
+  subroutine add(t, name, x, typical, meaning, choices, empty_ok)
     class(table_t), intent(inout) :: t
     character(len=*), intent(in) :: name, typical, meaning
-    real(wp), target, intent(inout) :: x
-    call push(t, name, 'r', 1, 0, typical, meaning)
-    t%v(t%n)%r => x
-  end subroutine add_r
-
-  subroutine add_ra(t, name, x, typical, meaning)
-    class(table_t), intent(inout) :: t
-    character(len=*), intent(in) :: name, typical, meaning
-    real(wp), target, intent(inout) :: x(:)
-    call push(t, name, 'r', size(x), 0, typical, meaning)
-    t%v(t%n)%ra => x
-  end subroutine add_ra
-
-  subroutine add_i(t, name, x, typical, meaning)
-    class(table_t), intent(inout) :: t
-    character(len=*), intent(in) :: name, typical, meaning
-    integer, target, intent(inout) :: x
-    call push(t, name, 'i', 1, 0, typical, meaning)
-    t%v(t%n)%i => x
-  end subroutine add_i
-
-  subroutine add_ia(t, name, x, typical, meaning)
-    class(table_t), intent(inout) :: t
-    character(len=*), intent(in) :: name, typical, meaning
-    integer, target, intent(inout) :: x(:)
-    call push(t, name, 'i', size(x), 0, typical, meaning)
-    t%v(t%n)%ia => x
-  end subroutine add_ia
-
-  subroutine add_l(t, name, x, typical, meaning)
-    class(table_t), intent(inout) :: t
-    character(len=*), intent(in) :: name, typical, meaning
-    logical, target, intent(inout) :: x
-    call push(t, name, 'l', 1, 0, typical, meaning)
-    t%v(t%n)%l => x
-  end subroutine add_l
-
-  !> A string; with choices a keyword (lower-cased, one of them; empty too when optional).
-  subroutine add_c(t, name, x, typical, meaning, choices, empty_ok)
-    class(table_t), intent(inout) :: t
-    character(len=*), intent(in) :: name, typical, meaning
-    character(len=*), target, intent(inout) :: x
+    class(*), target, intent(inout) :: x(..)
     character(len=*), intent(in), optional :: choices(:)
     logical, intent(in), optional :: empty_ok
-    call push(t, name, 'c', 1, len(x), typical, meaning)
-    t%v(t%n)%c => x
-    call keyword(t%v(t%n), choices, empty_ok)
-  end subroutine add_c
-
-  subroutine add_ca(t, name, x, typical, meaning, choices)
-    class(table_t), intent(inout) :: t
-    character(len=*), intent(in) :: name, typical, meaning
-    character(len=name_len), target, intent(inout) :: x(:)
-    character(len=*), intent(in), optional :: choices(:)
-    call push(t, name, 'c', size(x), len(x), typical, meaning)
-    t%v(t%n)%ca => x
-    call keyword(t%v(t%n), choices)
-  end subroutine add_ca
-
-  subroutine keyword(v, choices, empty_ok)
-    type(deck_var_t), intent(inout) :: v
-    character(len=*), intent(in), optional :: choices(:)
-    logical, intent(in), optional :: empty_ok
-    if (.not. present(choices)) return
-    v%kind = 'k'
-    v%choices = joined(choices)
+    type(deck_var_t) :: v
+    v = deck_var_t(group=t%g, name=name, typical=typical, meaning=meaning)
+    select rank (x)
+    rank (0)
+      select type (x)
+      type is (real(wp))
+        v%r => x
+      type is (integer)
+        v%i => x
+      type is (logical)
+        v%l => x
+      type is (character(*))
+        v%c => x
+      end select
+    rank (1)
+      v%size = size(x)
+      select type (x)
+      type is (real(wp))
+        v%ra => x
+      type is (integer)
+        v%ia => x
+      type is (character(*))
+        v%ca => x
+      end select
+    end select
+    if (associated(v%i) .or. associated(v%ia)) v%kind = 'i'
+    if (associated(v%l)) v%kind = 'l'
+    if (associated(v%c)) v%clen = len(v%c)
+    if (associated(v%ca)) v%clen = len(v%ca)
+    if (v%clen > 0) v%kind = merge('k', 'c', present(choices))
+    if (present(choices)) v%choices = joined(choices)
     if (present(empty_ok)) v%empty_ok = empty_ok
-  end subroutine keyword
+    t%n = t%n + 1
+    t%v(t%n) = v
+  end subroutine add
 
   !> Start reading the deck called base (the name in every error line) with no errors.
   subroutine deck_errors_begin(base)

@@ -1,17 +1,15 @@
 !> The small text helpers of the deck modules (DESIGN section 6): lower case, the edit
 !> distance behind "did you mean" hints, integers and reals as deck text (a real in the
-!> shortest form that reads back bit for bit), quoting for a deck or for the shell, the end
-!> of a quoted string, membership of a list written 'a, b, c', and path names. Text in,
+!> shortest form that reads back bit for bit), quoting for a deck or for the shell,
+!> membership of a list written 'a, b, c', and path names. Text in,
 !> text out: it knows nothing of groups, variables or the configuration, does no I/O and
 !> never stops the run.
 module m_deck_text
   use m_kinds, only: wp, i8
   implicit none
   private
-  public :: to_lower, edit_distance, int_text, real_text, quoted, shell_quoted, unquote
-  public :: string_end, is_digit, in_list, joined, base_name, dir_name, normal_path
-
-  character(len=1), parameter :: nl = achar(10)
+  public :: to_lower, edit_distance, int_text, real_text, quoted, shell_quoted
+  public :: in_list, joined, base_name, dir_name, normal_path
 
 contains
 
@@ -102,82 +100,37 @@ contains
     if (x < 0.0_wp) r = '-' // r
   end function real_text
 
-  !> A string as a deck value: in single quotes, inner quotes doubled.
+  !> A string as a deck value: in single quotes, inner quotes doubled (the trailing blanks
+  !> dropped).
   function quoted(t) result(r)
     character(len=*), intent(in) :: t
     character(len=:), allocatable :: r
-    r = single_quoted(t, "''")
+    r = quote_with(trim(t), "''")
   end function quoted
 
   !> A string as one word of a shell command: in single quotes, inner quotes as '\''.
   function shell_quoted(t) result(r)
     character(len=*), intent(in) :: t
     character(len=:), allocatable :: r
-    r = single_quoted(t, "'\''")
+    r = quote_with(trim(t), "'\''")
   end function shell_quoted
 
-  !> t without its trailing blanks in single quotes, each quote inside written as quote_as.
-  function single_quoted(t, quote_as) result(r)
+  function quote_with(t, quote_as) result(r)
     character(len=*), intent(in) :: t, quote_as
-    character(len=:), allocatable :: r
-    integer :: i
+    character(len=:), allocatable :: r, rest
+    integer :: k
     r = "'"
-    do i = 1, len_trim(t)
-      if (t(i:i) == "'") then
-        r = r // quote_as
-      else
-        r = r // t(i:i)
-      end if
+    rest = t
+    do while (index(rest, "'") > 0)
+      k = index(rest, "'")
+      r = r // rest(1:k - 1) // quote_as
+      rest = rest(k + 1:)
     end do
-    r = r // "'"
-  end function single_quoted
-
-  !> The characters of a quoted deck string (doubled quotes made single).
-  function unquote(t) result(r)
-    character(len=*), intent(in) :: t
-    character(len=:), allocatable :: r
-    integer :: i
-    r = ''
-    if (len(t) < 2) return
-    i = 2
-    do while (i < len(t))
-      r = r // t(i:i)
-      if (t(i:i) == t(1:1)) i = i + 1
-      i = i + 1
-    end do
-  end function unquote
-
-  !> Position of the quote closing the string that opens at p, or 0 if the line ends first.
-  !> A doubled quote inside the string stands for one quote character.
-  integer function string_end(s, p) result(e)
-    character(len=*), intent(in) :: s
-    integer, intent(in) :: p
-    integer :: q
-    e = 0
-    q = p + 1
-    do while (q <= len(s))
-      if (s(q:q) == nl) return
-      if (s(q:q) == s(p:p)) then
-        if (q < len(s)) then
-          if (s(q + 1:q + 1) == s(p:p)) then
-            q = q + 2
-            cycle
-          end if
-        end if
-        e = q
-        return
-      end if
-      q = q + 1
-    end do
-  end function string_end
-
-  pure logical function is_digit(c)
-    character(len=1), intent(in) :: c
-    is_digit = (c >= '0' .and. c <= '9')
-  end function is_digit
+    r = r // rest // "'"
+  end function quote_with
 
   !> Whether word is one of the items of a list written 'a, b, c'.
-  logical function in_list(word, list)
+  elemental logical function in_list(word, list)
     character(len=*), intent(in) :: word, list
     in_list = len_trim(word) > 0 .and. index(', ' // list // ',', ', ' // trim(word) // ',') > 0
   end function in_list
@@ -197,58 +150,37 @@ contains
   function base_name(path) result(r)
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: r
-    integer :: k
+    integer :: k, j
     r = trim(path)
-    do while (len(r) > 1)
-      if (r(len(r):len(r)) /= '/') exit
-      r = r(1:len(r) - 1)
+    k = len(r)
+    do while (k > 1)   ! trailing slashes
+      if (r(k:k) /= '/') exit
+      k = k - 1
     end do
-    k = index(r, '/', back=.true.)
-    if (k > 0 .and. k < len(r)) r = r(k + 1:)
+    j = index(r(1:k), '/', back=.true.)
+    r = r(merge(j + 1, 1, j < k):k)
   end function base_name
 
   !> The folder part of a path, normalised ('./a//b/c.h5' -> 'a/b', 'c.h5' -> '.').
   function dir_name(path) result(r)
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: r
-    integer :: k
-    k = index(trim(path), '/', back=.true.)
-    if (k == 0) then
-      r = '.'
-    else
-      r = normal_path(path(1:k))
-    end if
+    r = normal_path(path(1:index(trim(path), '/', back=.true.)))
   end function dir_name
 
   !> A path written one way only: no '//', no '/./', no leading './', no trailing '/'.
   function normal_path(path) result(r)
     character(len=*), intent(in) :: path
-    character(len=:), allocatable :: r
+    character(len=:), allocatable :: r, rest
     integer :: k
-    r = trim(adjustl(path))
-    do
-      k = index(r, '//')
-      if (k == 0) exit
-      r = r(1:k) // r(k + 2:)
+    rest = trim(adjustl(path)) // '/'
+    r = repeat('/', merge(1, 0, rest(1:1) == '/' .and. len(rest) > 1))
+    do while (len(rest) > 0)   ! each component but '' and '.'
+      k = index(rest, '/')
+      if (k > 1 .and. rest(1:k - 1) /= '.') r = r // rest(1:k - 1) // '/'
+      rest = rest(k + 1:)
     end do
-    do
-      k = index(r, '/./')
-      if (k == 0) exit
-      r = r(1:k) // r(k + 3:)
-    end do
-    do while (len(r) > 2)
-      if (r(1:2) /= './') exit
-      r = r(3:)
-    end do
-    do while (len(r) > 1)
-      if (r(len(r):len(r)) == '/') then
-        r = r(1:len(r) - 1)
-      else if (len(r) > 2 .and. r(len(r) - 1:len(r)) == '/.') then
-        r = r(1:len(r) - 2)
-      else
-        exit
-      end if
-    end do
+    if (len(r) > 1) r = r(1:len(r) - 1)
     if (len(r) == 0) r = '.'
   end function normal_path
 
