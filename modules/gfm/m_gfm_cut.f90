@@ -316,22 +316,20 @@ contains
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: offset(3), n(3), e(3), c(3)
     real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
-    integer :: best(3), d, s, nb(3)
-    real(wp) :: a
-    best = huge(1)
-    a = 0.0_wp
-    do d = 1, lay%ndim
-      do s = -1, 1, 2
-        nb = c
-        nb(d) = nb(d) + s
-        if (nb(d) < 1 - e(d) .or. nb(d) > n(d) + e(d)) cycle
-        if (.not. in_domain(lay, offset, nb)) cycle
-        if (alpha_e(nb(1), nb(2), nb(3)) > a) then
-          a = alpha_e(nb(1), nb(2), nb(3))
-          best = nb
-        end if
-      end do
+    integer :: best(3), nb(3, 6), m, d
+    real(wp) :: a(6)
+    ! neighbour m: direction (m + 1) / 2, low side for odd m; -1 where there is none
+    a = -1.0_wp
+    do m = 1, 2 * lay%ndim
+      d = (m + 1) / 2
+      nb(:, m) = c
+      nb(d, m) = c(d) + 2 * mod(m + 1, 2) - 1
+      if (nb(d, m) < 1 - e(d) .or. nb(d, m) > n(d) + e(d)) cycle
+      if (in_domain(lay, offset, nb(:, m))) a(m) = alpha_e(nb(1, m), nb(2, m), nb(3, m))
     end do
+    best = huge(1)
+    m = maxloc(a, 1)
+    if (a(m) > 0.0_wp) best = nb(:, m)
   end function largest_neighbour
 
   !> The first pass of turning content into states, on block blk (number b) after the halo

@@ -227,7 +227,7 @@ contains
               end do
             end if
             rho = q(i, j, k, o + i_rho)
-            if (.not. rho > 0.0_wp) then
+            if (.not. abs(rho) > 0.0_wp) then
               ! no material (a cut-cell phase's content beyond its surface, m_gfm_cut)
               q(i, j, k, o + imom) = -q(i, j, k, o + imom)
               cycle
