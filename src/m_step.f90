@@ -13,7 +13,7 @@ module m_step
   use m_euler, only: rk_stage_update
   use m_fallback, only: find_trouble
   use m_levelset_motion, only: levelset_rates
-  use m_gfm_stage, only: ghost_fluid_fill, phase_rhs, phase_corrections, phases_states
+  use m_gfm_stage, only: ghost_fluid_fill, phase_rhs, phase_corrections, phase_states, states_end
   use m_comm, only: comm_any, comm_sum
   use m_timers, only: timer_start, timer_stop
   implicit none
@@ -93,9 +93,9 @@ contains
       if (sim%diag%step_failed) exit
     end do
     ! a cut-cell phase's content into states (m_gfm_cut; nothing to do without one)
-    if (.not. sim%diag%step_failed) call phases_states(sim%gf, sim%cut, sim%ls, sim%ph, &
+    if (.not. sim%diag%step_failed) call phase_states(sim%gf, sim%cut, sim%ls, sim%ph, &
       sim%plan, sim%lay, sim%bc, sim%blocks, sim%clk%time + sim%clk%dt, sim%clk%dt, &
-      sim%cfg%rk_order, sim%cfg%thermal, .false., sim%diag%step_failed)
+      sim%cfg%rk_order, sim%cfg%thermal, states_end, sim%diag%step_failed)
     sim%diag%fallback_faces = sim%diag%fallback_faces + int(nf, i8)
     sim%diag%fallback_step = comm_sum(int(nf, i8))
   end subroutine advance

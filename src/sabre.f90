@@ -13,7 +13,7 @@ program sabre
   use m_deck, only: deck_read, deck_prepare_output
   use m_hdf5_io, only: h5_init, h5_finalize
   use m_simulation, only: sim_t, sim_setup, sim_paint_initial_state
-  use m_gfm_stage, only: phases_states
+  use m_gfm_stage, only: phase_states, states_start
   use m_output, only: output_restart, output_restart_check
   use m_timeloop, only: run_time_loop
   use m_timers, only: memory_kb
@@ -64,8 +64,8 @@ program sabre
   end if
   ! a cut-cell phase takes its content from the states (m_gfm_cut; nothing without one)
   bad_start = .false.
-  call phases_states(sim%gf, sim%cut, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, sim%blocks, &
-    sim%clk%time, 0.0_wp, sim%cfg%rk_order, .false., .true., bad_start)
+  call phase_states(sim%gf, sim%cut, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, sim%blocks, &
+    sim%clk%time, 0.0_wp, sim%cfg%rk_order, .false., states_start, bad_start)
   loop_wall = comm_wtime()
   call run_time_loop(sim, deck_text, stopped)
   loop_wall = comm_wtime() - loop_wall

@@ -24,7 +24,11 @@ module m_gfm_stage
   use m_comm, only: comm_any
   implicit none
   private
-  public :: ghost_fluid_fill, phase_rhs, phase_corrections, phases_states
+  public :: ghost_fluid_fill, phase_rhs, phase_corrections, phase_states
+
+  !> what phase_states does (see there)
+  integer, parameter, public :: states_geometry = 0, states_open = 1, states_end = 2, &
+    states_start = 3
 
 contains
 
@@ -58,8 +62,8 @@ contains
     call rigid_bodies_move(lay, bodies, ls, ph%ils, blocks, t)
     if (cut%on) then
       if (stage == 1) cut%side = 0.0_wp
-      call cut_stage(gf, cut, ls, ph, plan, lay, bc, blocks, t, stage > 1, .false., dt, thermal, &
-        failed)
+      call phase_states(gf, cut, ls, ph, plan, lay, bc, blocks, t, dt, 0, thermal, &
+        merge(states_open, states_geometry, stage > 1), failed)
       ! the halo held content: now the neighbours' states, for the ghost fill's stencils
       if (stage > 1) call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
     end if
@@ -183,46 +187,20 @@ contains
     end associate
   end subroutine phase_corrections
 
-  !> A cut-cell phase's content and states (nothing to do without one), every halo first
-  !> brought up to date. At the start of a run (start: the initial state painted or read
-  !> from a checkpoint) its content from its states and the fractions of its level set;
-  !> after the last stage of a step, its content into the step's states and the step's
-  !> in-flow through the sides into its budget. failed: a state that is not admissible on
-  !> some rank.
-  subroutine phases_states(gf, cut, ls, ph, plan, lay, bc, blocks, t, dt, order, thermal, &
-      start, failed)
-    type(gf_t), intent(inout) :: gf
-    type(cut_t), intent(inout) :: cut
-    type(ls_set_t), intent(in) :: ls
-    type(phases_t), intent(in) :: ph
-    type(halo_plan_t), intent(inout) :: plan
-    type(layout_t), intent(in) :: lay
-    type(bc_kind_t), intent(in) :: bc
-    type(block_t), intent(inout) :: blocks(:)
-    real(wp), intent(in) :: t, dt
-    integer, intent(in) :: order
-    logical, intent(in) :: thermal, start
-    logical, intent(inout) :: failed
-    logical :: bad
-    if (.not. cut%on) return
-    call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, gf%dormant)
-    bad = .false.
-    if (start) cut%started = .false.
-    call cut_stage(gf, cut, ls, ph, plan, lay, bc, blocks, t, .not. start, .not. start, dt, &
-      thermal, bad)
-    if (start) return
-    failed = comm_any(bad)
-    ! what came in through the domain's sides in this step (the stages' weights)
-    if (.not. failed) cut%crossed = cut%crossed + dt * matmul(cut%side, rk_weights(order))
-  end subroutine phases_states
-
-  !> The cut-cell phase on every awake block: its geometry from the level sets; with
-  !> states, its content made states (the emptied cells' content to their neighbours, the
-  !> halo exchanged again, the small cells mixed: cut_donate, cut_open) and their radial
-  !> return; with final (the step's end), the content kept for the next step (c0), the
-  !> fractions, and the rest state beyond the phase. The first call of a run takes the
-  !> content of the initial states.
-  subroutine cut_stage(gf, cut, ls, ph, plan, lay, bc, blocks, t, states, final, dt, thermal, &
+  !> The cut-cell phase's content and states (m_gfm_cut; nothing to do without one), on
+  !> every awake block, by mode:
+  !> - states_geometry (the first stage): its geometry from the level sets;
+  !> - states_open (a later stage, after the halo exchange): also its content made states
+  !>   (the emptied cells' content to their neighbours, the halo exchanged again, the small
+  !>   cells mixed: cut_donate, cut_open) and their radial return;
+  !> - states_end (after the last stage of a step): every halo first brought up to date,
+  !>   then as states_open, the content kept for the next step (c0), the fractions, the rest
+  !>   state beyond the phase and the step's in-flow through the sides in the budget; failed
+  !>   is then collective;
+  !> - states_start (the run's start: the initial state painted or read from a checkpoint):
+  !>   every halo brought up to date, the content taken from the states and the fractions.
+  !> failed: a state that is not admissible.
+  subroutine phase_states(gf, cut, ls, ph, plan, lay, bc, blocks, t, dt, order, thermal, mode, &
       failed)
     type(gf_t), intent(inout) :: gf
     type(cut_t), intent(inout) :: cut
@@ -232,11 +210,20 @@ contains
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
     type(block_t), intent(inout) :: blocks(:)
-    logical, intent(in) :: states, final, thermal
     real(wp), intent(in) :: t, dt
+    integer, intent(in) :: order, mode
+    logical, intent(in) :: thermal
     logical, intent(inout) :: failed
+    logical :: states, final, bad
     logical, allocatable :: isreal(:, :, :), fresh(:, :, :)
     integer :: b, p, m, lo(3), hi(3), n(3), v0
+    if (.not. cut%on) return
+    if (mode == states_end .or. mode == states_start) &
+      call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, gf%dormant)
+    if (mode == states_start) cut%started = .false.
+    states = mode == states_open .or. mode == states_end
+    final = mode == states_end
+    bad = .false.
     p = cut%p
     v0 = ph%lo(p) - 1
     do b = 1, size(blocks)
@@ -277,7 +264,7 @@ contains
         hi = n + blk%lay%ng
         call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
         call cut_open(cut, b, blk, ph, cut%ext(b)%a, reshape([bc%lo == bc_outflow, &
-          bc%hi == bc_outflow], [2, 3], order=[2, 1]), failed)
+          bc%hi == bc_outflow], [2, 3], order=[2, 1]), bad)
         if (ph%strong(p)) then
           call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
             w%bigphi(:, :, :, p), w%owner(:, :, :, p))
@@ -296,6 +283,13 @@ contains
         end if
       end associate
     end do
-  end subroutine cut_stage
+    if (.not. final) then
+      failed = failed .or. bad
+      return
+    end if
+    failed = comm_any(bad)
+    ! what came in through the domain's sides in this step (the stages' weights)
+    if (.not. failed) cut%crossed = cut%crossed + dt * matmul(cut%side, rk_weights(order))
+  end subroutine phase_states
 
 end module m_gfm_stage

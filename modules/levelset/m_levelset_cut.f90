@@ -18,6 +18,7 @@
 !> p / r. Kernels only: no MPI, no I/O, no state; not yet used by the time step (issue 15).
 module m_levelset_cut
   use m_kinds, only: wp
+  use m_levelset_geometry, only: unit_or_zero
   implicit none
   private
   public :: levelset_cut, levelset_cut_volume, cut_square_moments, cut_crossing
@@ -289,7 +290,7 @@ contains
     real(wp), intent(in) :: ax(0:n(1), n(2), n(3)), ay(n(1), 0:n(2), n(3))
     real(wp), intent(in) :: az(n(1), n(2), 0:n(3)), plane(n(1), n(2), n(3))
     real(wp), intent(out) :: area(n(1), n(2), n(3)), normal(n(1), n(2), n(3), 3)
-    real(wp) :: f(3), v(3), rm, rc, s
+    real(wp) :: f(3), v(3), rm, rc
     integer :: i, j, k
     f = 1.0_wp
     if (ndim >= 2) f(1:2) = [dx(2), dx(1)]
@@ -310,13 +311,8 @@ contains
               + (plane(i, j, k) - ax(i, j, k)) * dx(1))
             v(2) = two_pi * rc * v(2)
           end if
-          s = norm2(v)
-          area(i, j, k) = s
-          if (s > 0.0_wp) then
-            normal(i, j, k, :) = v / s
-          else
-            normal(i, j, k, :) = 0.0_wp
-          end if
+          area(i, j, k) = norm2(v)
+          normal(i, j, k, :) = unit_or_zero(v)
         end do
       end do
     end do

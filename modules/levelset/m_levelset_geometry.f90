@@ -13,11 +13,20 @@ module m_levelset_geometry
   implicit none
   private
   public :: levelset_normals, levelset_curvature, levelset_volume, levelset_heaviside
-  public :: levelset_gradient_at
+  public :: levelset_gradient_at, unit_or_zero
 
   real(wp), parameter :: pi = 3.14159265358979323846_wp
 
 contains
+
+  !> v / |v|, or 0 for v = 0.
+  pure function unit_or_zero(v) result(u)
+    real(wp), intent(in) :: v(3)
+    real(wp) :: u(3), s
+    s = norm2(v)
+    u = 0.0_wp
+    if (s > 0.0_wp) u = v / s
+  end function unit_or_zero
 
   !> grad phi at cell (i, j, k) of phi (bounds lo..hi) by central differences, one-sided at
   !> the array's edge; components of unused directions zero. The ghost fill's normals
@@ -46,7 +55,7 @@ contains
     real(wp), intent(in) :: phi(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
     real(wp), intent(out) :: nrm(n(1), n(2), n(3), 3)
     integer, intent(in), optional :: order
-    real(wp) :: grad(3), mag
+    real(wp) :: grad(3)
     integer :: i, j, k, d, e(3), ord
     ord = 2
     if (present(order)) ord = order
@@ -64,12 +73,7 @@ contains
             end if
           end do
           if (ord /= 4) grad = levelset_gradient_at(ndim, dx, 1 - g, n + g, phi, i, j, k)
-          mag = norm2(grad)
-          if (mag > 0.0_wp) then
-            nrm(i, j, k, :) = grad / mag
-          else
-            nrm(i, j, k, :) = 0.0_wp
-          end if
+          nrm(i, j, k, :) = unit_or_zero(grad)
         end do
       end do
     end do
