@@ -35,6 +35,7 @@ module m_gfm_cut
   implicit none
   private
   public :: cut_t, cut_setup, cut_geometry, cut_donate, cut_open, cut_update, cut_content
+  public :: cut_strand
 
   !> A block's fractions over the padded block less its outer layer (for the mixing).
   type :: fraction_t
@@ -107,19 +108,37 @@ contains
   !> The geometry of the cut phase on block blk from its composite level set bigphi (over
   !> the padded block): the interior faces' apertures and fractions into cut%faces(b), and
   !> the fractions alpha_e over the padded block less its outer layer (for the mixing).
-  subroutine cut_geometry(cut, b, blk, bigphi, alpha_e)
+  subroutine cut_geometry(cut, b, blk, bigphi, open_side, alpha_e)
     type(cut_t), intent(inout) :: cut
     integer, intent(in) :: b
     type(block_t), intent(in) :: blk
     real(wp), intent(in) :: bigphi(:, :, :)
+    logical, intent(in) :: open_side(2, 3)   !< the domain's outflow sides
     real(wp), allocatable, intent(out) :: alpha_e(:, :, :)
     real(wp), allocatable :: ax(:, :, :), ay(:, :, :), az(:, :, :), area(:, :, :)
-    real(wp), allocatable :: normal(:, :, :, :), plane(:, :, :)
-    integer :: e(3), n(3), ne(3), g1(3)
+    real(wp), allocatable :: normal(:, :, :, :), plane(:, :, :), phi(:, :, :)
+    integer :: e(3), n(3), ne(3), g1(3), d, l, c
     real(wp) :: r0
     associate (lay => blk%lay)
       n = blk%n
       e = max(lay%ng - 1, 0)
+      ! beyond an outflow side the level set continues linearly (the halo holds a copy of
+      ! the edge cell): the side's faces then get the apertures the surface really has there
+      phi = bigphi
+      do d = 1, lay%ndim
+        if (open_side(1, d) .and. blk%offset(d) == 0) then
+          c = lay%ng(d) + 1
+          do l = 1, lay%ng(d)
+            call extend(d, c - l, c, c + 1, real(l, wp))
+          end do
+        end if
+        if (open_side(2, d) .and. blk%offset(d) + n(d) == lay%cells(d)) then
+          c = lay%ng(d) + n(d)
+          do l = 1, lay%ng(d)
+            call extend(d, c + l, c, c - 1, real(l, wp))
+          end do
+        end if
+      end do
       ne = n + 2 * e
       g1 = merge(1, 0, lay%ng > 0)
       allocate(alpha_e(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
@@ -129,7 +148,7 @@ contains
       allocate(area, plane, mold=alpha_e)
       allocate(normal(ne(1), ne(2), ne(3), 3))
       r0 = lay%lo(1) + real(blk%offset(1) - e(1), wp) * lay%dx(1)
-      call levelset_cut(lay%ndim, lay%axisymmetric, ne, g1, lay%dx, r0, bigphi, ax, ay, az, &
+      call levelset_cut(lay%ndim, lay%axisymmetric, ne, g1, lay%dx, r0, phi, ax, ay, az, &
         alpha_e, area, normal, plane)
       associate (f => cut%faces(b))
         f%ax = ax(0:n(1), 1:n(2), 1:n(3))
@@ -139,19 +158,36 @@ contains
         f%plane = plane(1:n(1), 1:n(2), 1:n(3))
       end associate
     end associate
+
+  contains
+
+    !> layer `to` (an index of phi along d) = edge + l (edge - inner), the whole layer
+    subroutine extend(dd, to, edge, inner, l)
+      integer, intent(in) :: dd, to, edge, inner
+      real(wp), intent(in) :: l
+      select case (dd)
+      case (1)
+        phi(to, :, :) = phi(edge, :, :) + l * (phi(edge, :, :) - phi(inner, :, :))
+      case (2)
+        phi(:, to, :) = phi(:, edge, :) + l * (phi(:, edge, :) - phi(:, inner, :))
+      case default
+        phi(:, :, to) = phi(:, :, edge) + l * (phi(:, :, edge) - phi(:, :, inner))
+      end select
+    end subroutine extend
   end subroutine cut_geometry
 
   !> Content into states on block blk (number b), after the halo exchange: q's phase
   !> variables hold the content C over the padded block; the small cells are mixed, the
   !> interior's content kept in cut%c and its states U = C / alpha put into q. failed: a
   !> state with rho <= 0 or an energy that is not finite.
-  subroutine cut_open(cut, b, blk, ph, alpha_e, open_side, failed)
+  subroutine cut_open(cut, b, blk, ph, alpha_e, open_side, final, failed)
     type(cut_t), intent(inout) :: cut
     integer, intent(in) :: b
     type(block_t), intent(inout) :: blk
     type(phases_t), intent(in) :: ph
     real(wp), intent(in) :: alpha_e(:, :, :)
     logical, intent(in) :: open_side(2, 3)   !< the domain's outflow sides (low, high; x, y, z)
+    logical, intent(in) :: final             !< at the step's end (after its last stage)
     logical, intent(inout) :: failed
     integer, allocatable :: root(:, :, :, :)
     real(wp), allocatable :: vol(:), cq(:, :, :, :)
@@ -177,13 +213,18 @@ contains
           do i = 1, n(1)
             r = root(:, i, j, k)
             if (.not. alpha(i, j, k) > 0.0_wp) then
-              ! empty: what content it still holds found no wet neighbour (cut_donate)
-              cut%stranded(1) = cut%stranded(1) + cq(i, j, k, i_rho) * vol(i)
-              cut%stranded(2) = cut%stranded(2) + cq(i, j, k, i_en) * vol(i)
-              cc = 0.0_wp
+              ! empty: what content it still holds found no wet neighbour (cut_donate); it
+              ! is taken out (and counted) at the step's end only, where the budget sees it
+              ! once (inside the step a stage's content counts with the stage's weight)
+              cc = cq(i, j, k, :)
+              if (final) then
+                cut%stranded(1) = cut%stranded(1) + cq(i, j, k, i_rho) * vol(i)
+                cut%stranded(2) = cut%stranded(2) + cq(i, j, k, i_en) * vol(i)
+                cc = 0.0_wp
+              end if
             else if (all(r == [i, j, k]) .and. .not. has_members(r)) then
               cc = cq(i, j, k, :)
-              if (alpha(i, j, k) < cut%small .and. on_open_side([i, j, k])) then
+              if (final .and. alpha(i, j, k) < cut%small .and. on_open_side([i, j, k])) then
                 ! a small cell alone on an open side: the last of the phase leaving the
                 ! domain; what it holds goes out through the side (counted)
                 cut%crossed(1) = cut%crossed(1) - cc(i_rho) * vol(i)
@@ -413,6 +454,23 @@ contains
       blk%q(1:n(1), 1:n(2), 1:n(3), lo:lo + ph%nflow - 1) = c
     end associate
   end subroutine cut_update
+
+  !> A block that has fallen dormant (m_gfm: far from every surface) holds no phase: what
+  !> content it still has is counted as stranded and set to zero.
+  subroutine cut_strand(cut, b, blk)
+    type(cut_t), intent(inout) :: cut
+    integer, intent(in) :: b
+    type(block_t), intent(in) :: blk
+    integer :: i, n(3)
+    real(wp) :: dv
+    n = blk%n
+    do i = 1, n(1)
+      dv = cell_volume(blk%lay, blk%offset, i)
+      cut%stranded(1) = cut%stranded(1) + sum(cut%c(i, 1:n(2), 1:n(3), i_rho, b)) * dv
+      cut%stranded(2) = cut%stranded(2) + sum(cut%c(i, 1:n(2), 1:n(3), i_en, b)) * dv
+    end do
+    cut%c(:, :, :, :, b) = 0.0_wp
+  end subroutine cut_strand
 
   !> The phase's mass, total energy and volume on block b: its content at the end of the last
   !> step (sum C V) and the volume its level set encloses (sum alpha V).

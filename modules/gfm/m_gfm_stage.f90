@@ -18,7 +18,7 @@ module m_gfm_stage
   use m_scene, only: rigid_bodies_move
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
-  use m_gfm_cut, only: cut_t, cut_geometry, cut_donate, cut_open, cut_update
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_donate, cut_open, cut_update, cut_strand
   use m_state, only: n_euler
   use m_boundary, only: ghosts_all, bc_outflow
   use m_comm, only: comm_any
@@ -214,13 +214,14 @@ contains
     integer, intent(in) :: order, mode
     logical, intent(in) :: thermal
     logical, intent(inout) :: failed
-    logical :: states, final, bad
+    logical :: states, final, bad, open_sides(2, 3)
     logical, allocatable :: isreal(:, :, :), fresh(:, :, :)
     integer :: b, p, m, lo(3), hi(3), n(3), v0
     if (.not. cut%on) return
     if (mode == states_end .or. mode == states_start) &
       call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, gf%dormant)
     if (mode == states_start) cut%started = .false.
+    open_sides = reshape([bc%lo == bc_outflow, bc%hi == bc_outflow], [2, 3], order=[2, 1])
     states = mode == states_open .or. mode == states_end
     final = mode == states_end
     bad = .false.
@@ -235,7 +236,7 @@ contains
         call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
         call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
           w%bigphi(:, :, :, p), w%owner(:, :, :, p))
-        call cut_geometry(cut, b, blk, w%bigphi(:, :, :, p), cut%ext(b)%a)
+        call cut_geometry(cut, b, blk, w%bigphi(:, :, :, p), open_sides, cut%ext(b)%a)
         if (.not. cut%started) then
           do m = 1, ph%nflow
             cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = f%alpha * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
@@ -250,11 +251,12 @@ contains
     call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
     do b = 1, size(blocks)
       if (gf%dormant(b)) then
-        ! dry: its step-start states (a block that fell dormant in this step held content)
+        ! dry: its step-start states (a block that fell dormant in this step held content,
+        ! which the budget counts as stranded)
         n = blocks(b)%n
         blocks(b)%q(1:n(1), 1:n(2), 1:n(3), ph%lo(p):ph%hi(p)) = &
           blocks(b)%q0(:, :, :, ph%lo(p):ph%hi(p))
-        cut%c(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
+        call cut_strand(cut, b, blocks(b))
         if (final) cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
         cycle
       end if
@@ -263,8 +265,7 @@ contains
         lo = 1 - blk%lay%ng
         hi = n + blk%lay%ng
         call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
-        call cut_open(cut, b, blk, ph, cut%ext(b)%a, reshape([bc%lo == bc_outflow, &
-          bc%hi == bc_outflow], [2, 3], order=[2, 1]), bad)
+        call cut_open(cut, b, blk, ph, cut%ext(b)%a, open_sides, final, bad)
         if (ph%strong(p)) then
           call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
             w%bigphi(:, :, :, p), w%owner(:, :, :, p))
