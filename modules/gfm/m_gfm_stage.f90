@@ -256,7 +256,7 @@ contains
         n = blocks(b)%n
         blocks(b)%q(1:n(1), 1:n(2), 1:n(3), ph%lo(p):ph%hi(p)) = &
           blocks(b)%q0(:, :, :, ph%lo(p):ph%hi(p))
-        call cut_strand(cut, b, blocks(b))
+        if (final) call cut_strand(cut, b, blocks(b))
         if (final) cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
         cycle
       end if
