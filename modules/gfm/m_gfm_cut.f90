@@ -57,7 +57,6 @@ module m_gfm_cut
     real(wp) :: stranded(2) = 0.0_wp              !< mass, energy that found no cell (so far)
     real(wp) :: side(2, 3) = 0.0_wp               !< (mass, energy; stage) rates in at the sides
     real(wp) :: crossed(2) = 0.0_wp               !< mass, energy in through the sides (so far)
-    integer :: mixed = 0                          !< small cells mixed in the last open
   end type cut_t
 
 contains
@@ -207,7 +206,6 @@ contains
         1-lay%ng(3):n(3)+lay%ng(3), nf))
       cq = q(:, :, :, lo:lo + nf - 1)
       call group_roots(lay, blk%offset, n, e, alpha_e, cut%small, root)
-      cut%mixed = 0
       do k = 1, n(3)
         do j = 1, n(2)
           do i = 1, n(1)
@@ -234,7 +232,6 @@ contains
             else
               call group_sum(r, sum_c, sum_a)
               cc = alpha(i, j, k) * sum_c / sum_a
-              cut%mixed = cut%mixed + 1
             end if
             cut%c(i, j, k, 1:nf, b) = cc
             if (alpha(i, j, k) > 0.0_wp .and. (cc(i_rho) > 0.0_wp .or. &
