@@ -366,9 +366,11 @@ contains
     if (sim%fix%on) cols = [character(len=name_len) :: cols, 'solid_mass', 'solid_energy', &
       'fixed_mass', 'fixed_energy', 'target_mass', 'target_energy']
     ! the cut-cell phase's budget (m_gfm_cut): content, what came in through the sides,
-    ! what found no cell, and the volume its level set encloses
+    ! what found no cell, the volume its level set encloses and the volume its content
+    ! fills at the density of its states (their difference is the drift, theory.md 7c)
     if (sim%cut%on) cols = [character(len=name_len) :: cols, 'cut_mass', 'cut_energy', &
-      'cut_volume', 'cut_in_mass', 'cut_in_energy', 'cut_stranded_mass', 'cut_stranded_energy']
+      'cut_volume', 'cut_in_mass', 'cut_in_energy', 'cut_stranded_mass', &
+      'cut_stranded_energy', 'cut_content_volume']
     do l = 1, sim%ls%n
       if (sim%ls%kind(l) /= ls_material) cycle
       cols = [character(len=name_len) :: cols, &
@@ -382,7 +384,7 @@ contains
   function history_values(sim) result(v)
     type(sim_t), intent(in) :: sim
     real(wp), allocatable :: v(:)
-    real(wp) :: tot(8), pmax, tmax, epmax, cut_tot(7)
+    real(wp) :: tot(8), pmax, tmax, epmax, cut_tot(8), me(4)
     integer :: b, l, nb, ph
     real(wp), allocatable :: body(:, :)
     logical :: has_t(sim%ph%nphase)
@@ -406,7 +408,9 @@ contains
     if (sim%cut%on) then
       cut_tot = 0.0_wp
       do b = 1, size(sim%blocks)
-        cut_tot(1:3) = cut_tot(1:3) + cut_content(sim%cut, b, sim%blocks(b))
+        me = cut_content(sim%cut, b, sim%blocks(b), sim%ph%lo(sim%cut%p))
+        cut_tot(1:3) = cut_tot(1:3) + me(1:3)
+        cut_tot(8) = cut_tot(8) + me(4)
       end do
       cut_tot(4:5) = sim%cut%crossed
       cut_tot(6:7) = sim%cut%stranded

@@ -156,6 +156,7 @@ contains
       ! conserve = 'cut_cell': by the fluxes where m_gfm_cut applies, else by the fix
       call cut_setup(sim%cut, cfg%conserve == 'cut_cell', sim%lay, sim%ph, sim%ls, sim%blocks)
       if (sim%cut%on) then
+        sim%bc%linear_levelsets = .true.
         call fix_setup(sim%fix, sim%ph, sim%ls, 'none', size(sim%blocks))
         sim%fix%reason = 'off: the cut-cell update conserves by its fluxes'
       else if (cfg%conserve == 'cut_cell') then

@@ -28,14 +28,17 @@ module m_gfm_cut
   use m_layout, only: layout_t, cell_volume
   use m_blocks, only: block_t
   use m_phases, only: phases_t
-  use m_state, only: i_rho, i_mx, i_mz, i_en, n_euler
+  use m_state, only: i_rho, i_mx, i_mz, i_en, n_euler, i_epsp, i_wcold
   use m_euler, only: cut_faces_t, rk_blend
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_material, ls_void
   use m_levelset_cut, only: levelset_cut
   implicit none
   private
   public :: cut_t, cut_setup, cut_geometry, cut_donate, cut_open, cut_update, cut_content
-  public :: cut_strand
+  public :: cut_strand, cut_scalars
+
+  !> a cell's fraction from which it counts as full of its phase
+  real(wp), parameter :: full = 1.0_wp - 1.0e-12_wp
 
   !> A block's fractions over the padded block less its outer layer (for the mixing).
   type :: fraction_t
@@ -51,6 +54,7 @@ module m_gfm_cut
     real(wp) :: small = 0.5_wp                    !< cells below this fraction are mixed
     type(cut_faces_t), allocatable :: faces(:)    !< (block) geometry of the current stage
     type(fraction_t), allocatable :: ext(:)       !< (block) its fractions into the halo
+    type(fraction_t), allocatable :: ext_n(:)     !< (block) the same at the last step's end
     real(wp), allocatable :: c(:, :, :, :, :)     !< (cell, variable, block) content, stage
     real(wp), allocatable :: c0(:, :, :, :, :)    !< (cell, variable, block) at the step start
     real(wp), allocatable :: alpha_n(:, :, :, :)  !< (cell, block) fractions of q's states
@@ -70,7 +74,7 @@ contains
     type(phases_t), intent(in) :: ph
     type(ls_set_t), intent(in) :: ls
     type(block_t), intent(in) :: blocks(:)
-    integer :: n(3), b
+    integer :: n(3), b, g1(3)
     cut%on = .false.
     if (.not. asked) then
       cut%reason = "off: &numerics interface_update = 'ghost_fluid'"
@@ -92,7 +96,7 @@ contains
     allocate(cut%c(n(1), n(2), n(3), ph%nflow, size(blocks)))
     allocate(cut%c0, mold=cut%c)
     allocate(cut%alpha_n(n(1), n(2), n(3), size(blocks)), cut%faces(size(blocks)))
-    allocate(cut%ext(size(blocks)))
+    allocate(cut%ext(size(blocks)), cut%ext_n(size(blocks)))
     cut%c = 0.0_wp
     cut%c0 = 0.0_wp
     cut%alpha_n = 0.0_wp
@@ -101,6 +105,8 @@ contains
       allocate(cut%faces(b)%ax(0:n(1), n(2), n(3)), cut%faces(b)%ay(n(1), 0:n(2), n(3)), &
         cut%faces(b)%az(n(1), n(2), 0:n(3)), cut%faces(b)%alpha(n(1), n(2), n(3)), &
         cut%faces(b)%plane(n(1), n(2), n(3)))
+      g1 = merge(1, 0, lay%ng > 0)
+      allocate(cut%faces(b)%partial(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)))
     end do
   end subroutine cut_setup
 
@@ -155,6 +161,8 @@ contains
         f%az = az(1:n(1), 1:n(2), 0:n(3))
         f%alpha = alpha_e(1:n(1), 1:n(2), 1:n(3))
         f%plane = plane(1:n(1), 1:n(2), 1:n(3))
+        f%partial = alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) > 0.0_wp &
+          .and. alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) < full
       end associate
     end associate
 
@@ -191,7 +199,7 @@ contains
     integer, allocatable :: root(:, :, :, :)
     real(wp), allocatable :: vol(:), cq(:, :, :, :)
     integer :: e(3), n(3), i, j, k, r(3), lo, nf
-    real(wp) :: sum_c(ph%nflow), sum_a, cc(ph%nflow)
+    real(wp) :: sum_c(ph%nflow), sum_a, cc(ph%nflow), least
     lo = ph%lo(cut%p)
     nf = ph%nflow
     associate (lay => blk%lay, q => blk%q)
@@ -230,11 +238,23 @@ contains
                 cc = 0.0_wp
               end if
             else
-              call group_sum(r, sum_c, sum_a)
-              cc = alpha(i, j, k) * sum_c / sum_a
+              call group_sum(r, sum_c, sum_a, least)
+              if (least > 0.0_wp) then
+                ! every member keeps its mass and takes the group's state per mass
+                cc = cq(i, j, k, i_rho) * sum_c / sum_c(i_rho)
+              else
+                ! a member has lost more mass than it held: the group's content shared by
+                ! the members' fractions
+                cc = alpha(i, j, k) * sum_c / sum_a
+              end if
             end if
             cut%c(i, j, k, 1:nf, b) = cc
-            if (alpha(i, j, k) > 0.0_wp .and. (cc(i_rho) > 0.0_wp .or. &
+            if (alpha(i, j, k) > 0.0_wp .and. cc(i_rho) > 0.0_wp .and. &
+                alpha(i, j, k) < full) then
+              ! a cut cell: its content per mass at the density of the material beside it
+              q(i, j, k, lo:lo + nf - 1) = cc * (reference_density([i, j, k], cc) / cc(i_rho))
+              if (.not. admissible(q(i, j, k, lo:lo + nf - 1))) failed = .true.
+            else if (alpha(i, j, k) > 0.0_wp .and. (cc(i_rho) > 0.0_wp .or. &
                 alpha(i, j, k) >= cut%small)) then
               q(i, j, k, lo:lo + nf - 1) = cc / alpha(i, j, k)
               if (.not. admissible(q(i, j, k, lo:lo + nf - 1))) failed = .true.
@@ -256,15 +276,21 @@ contains
       alpha = alpha_e(i0 + e(1), j0 + e(2), k0 + e(3))
     end function alpha
 
-    !> whether cell c0 lies on an outflow side of the domain
-    logical function on_open_side(c0) result(yes)
+    !> The density a cut cell c0 takes: that of the full cells beside it (full_density),
+    !> else (a sliver with no full cell near) the density it had at the step's start (its
+    !> state, or the ghost state beside the phase of a cell just reached), else its own
+    !> content over its fraction.
+    real(wp) function reference_density(c0, cc0) result(rho)
       integer, intent(in) :: c0(3)
-      integer :: d
-      yes = .false.
-      do d = 1, blk%lay%ndim
-        if (blk%offset(d) + c0(d) == 1 .and. open_side(1, d)) yes = .true.
-        if (blk%offset(d) + c0(d) == blk%lay%cells(d) .and. open_side(2, d)) yes = .true.
-      end do
+      real(wp), intent(in) :: cc0(:)
+      rho = full_density(blk%lay, blk%offset, e, alpha_e, cq(:, :, :, i_rho), c0)
+      if (.not. rho > 0.0_wp) rho = blk%q0(c0(1), c0(2), c0(3), lo + i_rho - 1)
+      if (.not. rho > 0.0_wp) rho = cc0(i_rho) / alpha(c0(1), c0(2), c0(3))
+    end function reference_density
+
+    logical function on_open_side(c0)
+      integer, intent(in) :: c0(3)
+      on_open_side = on_open(blk%lay, blk%offset, open_side, c0)
     end function on_open_side
 
     !> whether some face neighbour of cell c0 has joined its group
@@ -276,6 +302,8 @@ contains
         do s = -1, 1, 2
           nb = c0
           nb(d) = nb(d) + s
+          ! (only a small cell joins a group)
+          if (.not. alpha(nb(1), nb(2), nb(3)) < cut%small) cycle
           if (all(root(:, nb(1), nb(2), nb(3)) == c0)) yes = .true.
         end do
       end do
@@ -283,12 +311,14 @@ contains
 
     !> The content (times volume) and wet volume of the group of root c0: c0 and the face
     !> neighbours that joined it.
-    subroutine group_sum(c0, sc, sa)
+    subroutine group_sum(c0, sc, sa, least)
       integer, intent(in) :: c0(3)
       real(wp), intent(out) :: sc(:), sa
+      real(wp), intent(out) :: least   !< the smallest mass content of a member
       integer :: d, s, nb(3)
       sc = cq(c0(1), c0(2), c0(3), :) * vol(c0(1))
       sa = alpha(c0(1), c0(2), c0(3)) * vol(c0(1))
+      least = cq(c0(1), c0(2), c0(3), i_rho)
       do d = 1, blk%lay%ndim
         do s = -1, 1, 2
           nb = c0
@@ -296,6 +326,7 @@ contains
           if (.not. all(root(:, nb(1), nb(2), nb(3)) == c0)) cycle
           sc = sc + cq(nb(1), nb(2), nb(3), :) * vol(nb(1))
           sa = sa + alpha(nb(1), nb(2), nb(3)) * vol(nb(1))
+          least = min(least, cq(nb(1), nb(2), nb(3), i_rho))
         end do
       end do
     end subroutine group_sum
@@ -306,6 +337,42 @@ contains
       admissible = u(i_rho) > 0.0_wp .and. abs(u(i_en)) <= huge(1.0_wp)
     end function admissible
   end subroutine cut_open
+
+  !> The mean density of the full cells (alpha = 1) of the phase other than c within one
+  !> cell of c, else within two (inside the domain and the fractions' reach); 0 when none.
+  !> rho_q: the density (mass content) over the padded block.
+  function full_density(lay, offset, e, alpha_e, rho_q, c) result(rho)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), e(3), c(3)
+    real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
+    real(wp), intent(in) :: rho_q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):)
+    real(wp) :: rho, total
+    integer :: reach, lo(3), hi(3), i, j, k, count
+    rho = 0.0_wp
+    do reach = 1, 2
+      lo = c
+      hi = c
+      lo(1:lay%ndim) = max(c(1:lay%ndim) - reach, lbound(alpha_e) + [0, 0, 0])
+      hi(1:lay%ndim) = min(c(1:lay%ndim) + reach, ubound(alpha_e) + [0, 0, 0])
+      total = 0.0_wp
+      count = 0
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            if (all([i, j, k] == c)) cycle
+            if (.not. alpha_e(i, j, k) >= full) cycle
+            if (.not. in_domain(lay, offset, [i, j, k])) cycle
+            total = total + rho_q(i, j, k)
+            count = count + 1
+          end do
+        end do
+      end do
+      if (count > 0) then
+        rho = total / real(count, wp)
+        return
+      end if
+    end do
+  end function full_density
 
   !> The root of each cell's mixing group, over the block and two cells into its halo:
   !> a cell with alpha >= small, or empty (alpha = 0), is its own root; a small cell joins
@@ -336,6 +403,19 @@ contains
       end do
     end do
   end subroutine group_roots
+
+  !> Whether cell c (block coordinates) is a first or last cell along an outflow side.
+  pure logical function on_open(lay, offset, open_side, c) result(yes)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), c(3)
+    logical, intent(in) :: open_side(2, 3)
+    integer :: d
+    yes = .false.
+    do d = 1, lay%ndim
+      if (offset(d) + c(d) == 1 .and. open_side(1, d)) yes = .true.
+      if (offset(d) + c(d) == lay%cells(d) .and. open_side(2, d)) yes = .true.
+    end do
+  end function on_open
 
   !> Whether cell c (block coordinates) lies inside the domain.
   pure logical function in_domain(lay, offset, c) result(inside)
@@ -371,16 +451,25 @@ contains
   end function largest_neighbour
 
   !> The first pass of turning content into states, on block blk (number b) after the halo
-  !> exchange: a cell the surface has left (alpha = 0) gives what content it still holds to
-  !> its face neighbour of largest fraction; the interior's content afterwards goes into q
-  !> (the caller exchanges it again before cut_open). Content with no wet neighbour stays
-  !> (cut_open counts it as stranded).
-  subroutine cut_donate(blk, ph, p, alpha_e)
+  !> exchange, for the cells whose fraction has reached 0 or 1 since the last step's end
+  !> (alpha_prev): their content is brought to what their fraction says, by exchange with
+  !> their neighbours, so that the drift between the level set and the content (manual/
+  !> theory.md section 7c) stays in the cut cells, where the content, not the fraction,
+  !> decides how much material a cell holds:
+  !> - a cell the surface has left (alpha = 0) gives what content it still holds to its face
+  !>   neighbour of largest fraction;
+  !> - a cell that has turned full (alpha = 1) gives the mass it holds beyond the density of
+  !>   the full cells beside it (or takes what it lacks, at most half of the receiver's),
+  !>   with its state per mass, to its cut face neighbour of largest fraction.
+  !> The interior's content afterwards goes into q (the caller exchanges it again before
+  !> cut_open). Content with no wet neighbour stays (cut_open counts it as stranded).
+  subroutine cut_donate(blk, ph, p, alpha_e, alpha_prev)
     type(block_t), intent(inout) :: blk
     type(phases_t), intent(in) :: ph
     integer, intent(in) :: p
-    real(wp), intent(in) :: alpha_e(:, :, :)
+    real(wp), intent(in) :: alpha_e(:, :, :), alpha_prev(:, :, :)
     real(wp), allocatable :: cq(:, :, :, :)
+    real(wp) :: ex(ph%nflow)
     integer :: e(3), n(3), i, j, k, d, s, nb(3), best(3), lo, nf
     lo = ph%lo(p)
     nf = ph%nflow
@@ -393,22 +482,31 @@ contains
       do k = 1, n(3)
         do j = 1, n(2)
           do i = 1, n(1)
+            ! (nothing moves where the cell and its face neighbours were full and still are)
+            if (settled([i, j, k])) cycle
             if (.not. alpha_at([i, j, k]) > 0.0_wp) then
+              if (all(cq(i, j, k, :) == 0.0_wp)) cycle
               best = largest_neighbour(lay, blk%offset, n, e, alpha_e, [i, j, k])
               if (best(1) /= huge(1)) q(i, j, k, lo:lo + nf - 1) = 0.0_wp
               cycle
             end if
-            ! what the emptied neighbours give this cell
+            call filled_excess([i, j, k], best, ex)
+            if (best(1) /= huge(1)) q(i, j, k, lo:lo + nf - 1) = cq(i, j, k, :) - ex
+            ! what the emptied and the filled neighbours give this cell
             do d = 1, lay%ndim
               do s = -1, 1, 2
                 nb = [i, j, k]
                 nb(d) = nb(d) + s
-                if (alpha_at(nb) > 0.0_wp) cycle
                 if (.not. in_domain(lay, blk%offset, nb)) cycle
-                best = largest_neighbour(lay, blk%offset, n, e, alpha_e, nb)
+                if (alpha_at(nb) > 0.0_wp) then
+                  call filled_excess(nb, best, ex)
+                else
+                  best = largest_neighbour(lay, blk%offset, n, e, alpha_e, nb)
+                  ex = cq(nb(1), nb(2), nb(3), :)
+                end if
                 ! content per cell volume: the volumes differ along r in axisymmetry
                 if (all(best == [i, j, k])) q(i, j, k, lo:lo + nf - 1) = &
-                  q(i, j, k, lo:lo + nf - 1) + cq(nb(1), nb(2), nb(3), :) &
+                  q(i, j, k, lo:lo + nf - 1) + ex &
                   * (cell_volume(lay, blk%offset, nb(1)) / cell_volume(lay, blk%offset, i))
               end do
             end do
@@ -423,6 +521,71 @@ contains
       integer, intent(in) :: c(3)
       alpha_at = alpha_e(c(1) + e(1), c(2) + e(2), c(3) + e(3))
     end function alpha_at
+
+    !> whether cell c and its face neighbours are full now and were at the last step's end
+    logical function settled(c)
+      integer, intent(in) :: c(3)
+      integer :: dd, ss, m(3)
+      settled = .false.
+      if (.not. (alpha_at(c) >= full .and. &
+        alpha_prev(c(1) + e(1), c(2) + e(2), c(3) + e(3)) >= full)) return
+      do dd = 1, blk%lay%ndim
+        do ss = -1, 1, 2
+          m = c
+          m(dd) = m(dd) + ss
+          if (.not. (alpha_at(m) >= full .and. &
+            alpha_prev(m(1) + e(1), m(2) + e(2), m(3) + e(3)) >= full)) return
+        end do
+      end do
+      settled = .true.
+    end function settled
+
+    !> For a cell c that has turned full since the last step: the content it gives (ex,
+    !> negative where it takes) and to which cut neighbour (to); to(1) = huge(1) otherwise.
+    subroutine filled_excess(c, to, ex)
+      integer, intent(in) :: c(3)
+      integer, intent(out) :: to(3)
+      real(wp), intent(out) :: ex(:)
+      real(wp) :: rho, a, best_a, lack
+      integer :: dd, ss, m(3)
+      to = huge(1)
+      ex = 0.0_wp
+      if (.not. alpha_at(c) >= full) return
+      if (alpha_prev(c(1) + e(1), c(2) + e(2), c(3) + e(3)) >= full) return
+      if (.not. cq(c(1), c(2), c(3), i_rho) > 0.0_wp) return
+      best_a = 0.0_wp
+      do dd = 1, blk%lay%ndim
+        do ss = -1, 1, 2
+          m = c
+          m(dd) = m(dd) + ss
+          if (m(dd) < 1 - e(dd) .or. m(dd) > n(dd) + e(dd)) cycle
+          if (.not. in_domain(blk%lay, blk%offset, m)) cycle
+          a = alpha_at(m)
+          if (a > best_a .and. a < full) then
+            best_a = a
+            to = m
+          end if
+        end do
+      end do
+      if (to(1) == huge(1)) return
+      rho = full_density(blk%lay, blk%offset, e, alpha_e, cq(:, :, :, i_rho), c)
+      if (.not. rho > 0.0_wp) then
+        to = huge(1)
+        return
+      end if
+      ex = cq(c(1), c(2), c(3), :) * (1.0_wp - rho / cq(c(1), c(2), c(3), i_rho))
+      if (ex(i_rho) >= 0.0_wp) return
+      if (.not. cq(to(1), to(2), to(3), i_rho) > 0.0_wp) then
+        to = huge(1)
+        ex = 0.0_wp
+        return
+      end if
+      ! a deficit: at most half the receiver's mass (per the giver's volume), and what is
+      ! taken has the receiver's state per mass (so that eps_p and w_c stay within range)
+      lack = 0.5_wp * cq(to(1), to(2), to(3), i_rho) * cell_volume(blk%lay, blk%offset, to(1)) &
+        / cell_volume(blk%lay, blk%offset, c(1))
+      ex = max(ex(i_rho), -lack) * cq(to(1), to(2), to(3), :) / cq(to(1), to(2), to(3), i_rho)
+    end subroutine filled_excess
   end subroutine cut_donate
 
   !> After the stage update of block b: the phase's content C = a C0 + b (C + dt R) (the
@@ -452,6 +615,42 @@ contains
     end associate
   end subroutine cut_update
 
+  !> After the ghost fill of block blk (number b) at stage `stage`: a wet cell whose centre
+  !> lies outside the surface holds a ghost state for the stencils, but its transported
+  !> scalars (eps_p, w_c: no traction depends on them) are those of its own content, so that
+  !> what its faces carry out of it is what it holds.
+  subroutine cut_scalars(cut, b, blk, ph, stage)
+    type(cut_t), intent(in) :: cut
+    integer, intent(in) :: b, stage
+    type(block_t), intent(inout) :: blk
+    type(phases_t), intent(in) :: ph
+    integer :: i, j, k, v0, n(3)
+    real(wp) :: m
+    if (ph%nflow <= i_epsp - 1) return
+    v0 = ph%lo(cut%p) - 1
+    n = blk%n
+    do k = 1, n(3)
+      do j = 1, n(2)
+        do i = 1, n(1)
+          if (.not. cut%faces(b)%alpha(i, j, k) > 0.0_wp) cycle
+          if (stage == 1) then
+            m = cut%c0(i, j, k, i_rho, b)
+          else
+            m = cut%c(i, j, k, i_rho, b)
+          end if
+          if (.not. m > 0.0_wp) cycle
+          if (stage == 1) then
+            blk%q(i, j, k, v0 + i_epsp:v0 + i_wcold) = blk%q(i, j, k, v0 + i_rho) &
+              * cut%c0(i, j, k, i_epsp:i_wcold, b) / m
+          else
+            blk%q(i, j, k, v0 + i_epsp:v0 + i_wcold) = blk%q(i, j, k, v0 + i_rho) &
+              * cut%c(i, j, k, i_epsp:i_wcold, b) / m
+          end if
+        end do
+      end do
+    end do
+  end subroutine cut_scalars
+
   !> A block that has fallen dormant (m_gfm: far from every surface) holds no phase: what
   !> content it still has is counted as stranded and set to zero.
   subroutine cut_strand(cut, b, blk)
@@ -470,14 +669,16 @@ contains
   end subroutine cut_strand
 
   !> The phase's mass, total energy and volume on block b: its content at the end of the last
-  !> step (sum C V) and the volume its level set encloses (sum alpha V).
-  function cut_content(cut, b, blk) result(me)
+  !> step (sum C V), the volume its level set encloses (sum alpha V) and the volume its
+  !> content fills at the density of the cells' states (sum C_rho V / rho; a wet cell with
+  !> no state of its own counts alpha V). lo: the phase's first variable in q.
+  function cut_content(cut, b, blk, lo) result(me)
     type(cut_t), intent(in) :: cut
-    integer, intent(in) :: b
+    integer, intent(in) :: b, lo
     type(block_t), intent(in) :: blk
-    real(wp) :: me(3)
-    integer :: i, n(3)
-    real(wp) :: dv
+    real(wp) :: me(4)
+    integer :: i, j, k, n(3)
+    real(wp) :: dv, m, rho
     n = blk%n
     me = 0.0_wp
     do i = 1, n(1)
@@ -485,6 +686,17 @@ contains
       me(1) = me(1) + sum(cut%c0(i, 1:n(2), 1:n(3), i_rho, b)) * dv
       me(2) = me(2) + sum(cut%c0(i, 1:n(2), 1:n(3), i_en, b)) * dv
       me(3) = me(3) + sum(cut%alpha_n(i, 1:n(2), 1:n(3), b)) * dv
+      do k = 1, n(3)
+        do j = 1, n(2)
+          m = cut%c0(i, j, k, i_rho, b)
+          rho = blk%q(i, j, k, lo + i_rho - 1)
+          if (m > 0.0_wp .and. rho > 0.0_wp .and. cut%alpha_n(i, j, k, b) > 0.0_wp) then
+            me(4) = me(4) + m / rho * dv
+          else
+            me(4) = me(4) + cut%alpha_n(i, j, k, b) * dv
+          end if
+        end do
+      end do
     end do
   end function cut_content
 

@@ -18,8 +18,9 @@ module m_gfm_stage
   use m_scene, only: rigid_bodies_move
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
-  use m_gfm_cut, only: cut_t, cut_geometry, cut_donate, cut_open, cut_update, cut_strand
-  use m_state, only: n_euler
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_donate, cut_open, cut_update, cut_strand, &
+    cut_scalars
+  use m_state, only: n_euler, i_rho
   use m_boundary, only: ghosts_all, bc_outflow
   use m_comm, only: comm_any
   implicit none
@@ -77,6 +78,7 @@ contains
     do b = 1, size(blocks)
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
       call gfm_fill(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work, gf%counts, gf%dormant(b))
+      if (cut%on .and. .not. gf%dormant(b)) call cut_scalars(cut, b, blocks(b), ph, stage)
     end do
   end subroutine ghost_fluid_fill
 
@@ -216,6 +218,7 @@ contains
     logical, intent(inout) :: failed
     logical :: states, final, bad, open_sides(2, 3)
     logical, allocatable :: isreal(:, :, :), fresh(:, :, :)
+    real(wp), allocatable :: share(:, :, :)   !< content over state: the wet part
     integer :: b, p, m, lo(3), hi(3), n(3), v0
     if (.not. cut%on) return
     if (mode == states_end .or. mode == states_start) &
@@ -237,13 +240,22 @@ contains
         call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
           w%bigphi(:, :, :, p), w%owner(:, :, :, p))
         call cut_geometry(cut, b, blk, w%bigphi(:, :, :, p), open_sides, cut%ext(b)%a)
+        if (.not. allocated(cut%ext_n(b)%a)) then
+          ! a block that has just woken: it held none of the phase at the last step's end
+          allocate(cut%ext_n(b)%a, mold=cut%ext(b)%a)
+          cut%ext_n(b)%a = 0.0_wp
+        end if
         if (.not. cut%started) then
+          ! the run's start: a wet cell whose centre lies outside holds no state of the
+          ! phase yet; its ghost state (the phase's state beside it) makes its content
+          call gfm_fill(blk%lay, gf%scn, ls, blk%q, gf%work, gf%counts, gf%dormant(b))
           do m = 1, ph%nflow
             cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = f%alpha * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
           end do
           cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
+          cut%ext_n(b)%a = cut%ext(b)%a
         end if
-        if (states) call cut_donate(blk, ph, p, cut%ext(b)%a)
+        if (states) call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a)
       end associate
     end do
     cut%started = .true.
@@ -258,6 +270,7 @@ contains
           blocks(b)%q0(:, :, :, ph%lo(p):ph%hi(p))
         if (final) call cut_strand(cut, b, blocks(b))
         if (final) cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
+        if (final .and. allocated(cut%ext_n(b)%a)) cut%ext_n(b)%a = 0.0_wp
         cycle
       end if
       associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
@@ -273,13 +286,19 @@ contains
           fresh = isreal .and. .not. cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) > 0.0_wp
           call plastic_correction(blk%lay, ph%eos(p), ph%st(p), thermal, dt, &
             blk%q(:, :, :, ph%lo(p):ph%hi(p)), isreal, fresh)
+          ! the returned stress, eps_p and w_c back into content, per mass (a cut cell's
+          ! state has the density of the material beside it, m_gfm_cut)
+          share = f%alpha
+          where (blk%q(1:n(1), 1:n(2), 1:n(3), v0 + i_rho) > 0.0_wp) share = &
+            cut%c(1:n(1), 1:n(2), 1:n(3), i_rho, b) / blk%q(1:n(1), 1:n(2), 1:n(3), v0 + i_rho)
           do m = n_euler + 1, ph%nflow
-            cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = f%alpha * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
+            cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = share * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
           end do
         end if
         if (final) then
           cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = cut%c(1:n(1), 1:n(2), 1:n(3), :, b)
           cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
+          cut%ext_n(b)%a = cut%ext(b)%a
           call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
         end if
       end associate

@@ -38,6 +38,10 @@ module m_boundary
     integer :: lo(3) = bc_outflow, hi(3) = bc_outflow
     real(wp) :: velocity(3) = 0.0_wp
     real(wp) :: rise_time = 0.0_wp
+    !> level sets continue linearly beyond an outflow side (else they are copied like the
+    !> flow variables): the cut-cell update needs it, as a copied level set holds a surface
+    !> near the side back and then lets it jump (manual/theory.md section 7c)
+    logical :: linear_levelsets = .false.
   end type bc_kind_t
 
 contains
@@ -115,7 +119,7 @@ contains
         do s = -1, 1, 2
           call side_condition(lay, bc, blocks(b)%id, d, s, time, kind, vwall)
           if (kind /= 0) call face_fill(blocks(b)%lay, blocks(b)%q, m1, nvar, nflow, np, d, &
-            s, kind, vwall)
+            s, kind, vwall, bc%linear_levelsets)
         end do
       end do
     end do
@@ -178,15 +182,17 @@ contains
 
   !> One face of a block (lay: its view, m_layout), side s (-1 low, +1 high) of direction d,
   !> over the full extent of the other directions including their halos, variables
-  !> m1..nvar: halo cell n + l mirrors cell n + 1 - l (outflow: copies cell n). The copy
+  !> m1..nvar: halo cell n + l mirrors cell n + 1 - l (outflow: copies cell n; a level set,
+  !> with linear_ls, takes cell n + l (cell n - cell n - 1) instead). The copy
   !> reads interior cells along d only, so it runs variable by variable; the mirror's sign
   !> changes follow per cell.
-  subroutine face_fill(lay, q, m1, nvar, nflow, np, d, s, kind, vwall)
+  subroutine face_fill(lay, q, m1, nvar, nflow, np, d, s, kind, vwall, linear_ls)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: m1, nvar, nflow, np, d, s, kind
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(in) :: vwall
-    integer :: lo(3), hi(3), i, j, k, m, n, src(3), imom, p, o
+    logical, intent(in) :: linear_ls   !< level sets (after np phases) continue linearly
+    integer :: lo(3), hi(3), i, j, k, m, n, src(3), imom, p, o, inner(3), l(3)
     real(wp) :: rho, un_old, un_new
     n = lay%bsize(d)
     lo = 1 - lay%ng
@@ -202,7 +208,16 @@ contains
         do j = lo(2), hi(2)
           do i = lo(1), hi(1)
             src = [i, j, k]
-            if (kind == bc_outflow) then
+            if (kind == bc_outflow .and. m > np * nflow .and. n > 1 .and. linear_ls) then
+              ! a level set continues linearly beyond an outflow side
+              src(d) = merge(1, n, s < 0)
+              inner = src
+              inner(d) = merge(2, n - 1, s < 0)
+              l = abs([i, j, k] - src)
+              q(i, j, k, m) = q(src(1), src(2), src(3), m) + real(l(d), wp) &
+                * (q(src(1), src(2), src(3), m) - q(inner(1), inner(2), inner(3), m))
+              cycle
+            else if (kind == bc_outflow) then
               src(d) = merge(1, n, s < 0)
             else
               src(d) = merge(1 - src(d), 2 * n + 1 - src(d), s < 0)

@@ -44,6 +44,7 @@ module m_euler
     logical, allocatable :: up(:)                  !< faces with upwind scalars (nb, 0:n)
     integer, allocatable :: surf(:)                !< faces on a surface (nb, 0:n; m_flux)
     logical, allocatable :: low(:)                 !< faces forced to first order (nb, 0:n)
+    logical, allocatable :: lowb(:)                !< faces with eps_p, w_c at first order
     !> what the last euler_rhs let in through the domain's sides into the real cells: the
     !> rates of mass and total energy (kg/s, W; 2 pi r weighted in axisymmetry), for the
     !> conservation fix of the ghost-fluid method (m_gfm_conserve)
@@ -58,6 +59,10 @@ module m_euler
   type :: cut_faces_t
     real(wp), allocatable :: ax(:, :, :), ay(:, :, :), az(:, :, :)
     real(wp), allocatable :: alpha(:, :, :), plane(:, :, :)
+    !> the cut cells (0 < alpha < 1) of the block and one cell into its halo: their faces
+    !> carry eps_p and w_c at the cells' own values (upwind at first order keeps them >= 0
+    !> where a face may let out more than a part of a small cell's mass in a stage)
+    logical, allocatable :: partial(:, :, :)
   end type cut_faces_t
 
 contains
@@ -81,6 +86,7 @@ contains
     allocate(work%cl(nbmax * (nmax + 1)), work%cr(nbmax * (nmax + 1)))
     allocate(work%row(lo(1):hi(1)))
     allocate(work%up(nbmax * (nmax + 1)), work%low(nbmax * (nmax + 1)))
+    allocate(work%lowb(nbmax * (nmax + 1)))
     allocate(work%surf(nbmax * (nmax + 1)))
   end subroutine euler_work_init
 
@@ -158,9 +164,16 @@ contains
         end if
         call upwind_faces(d, c, nb, n, work%up, work%surf)
         call low_faces(d, c, nb, n, work%low)
-        call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
-          vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
-          work%er, work%cl, work%cr, work%f, nfallback, failed)
+        if (present(cut) .and. nv > n_euler) then
+          call partial_faces(d, c, nb, n, work%lowb)
+          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
+            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
+            work%er, work%cl, work%cr, work%f, nfallback, failed, work%lowb)
+        else
+          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
+            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
+            work%er, work%cl, work%cr, work%f, nfallback, failed)
+        end if
         if (failed) return
         if (present(cut)) call wet_faces(d, c, nb, n, work%f)
         if (d == 1) then
@@ -290,6 +303,23 @@ contains
       end select
     end subroutine low_faces
 
+    !> The faces of a bundle beside a cut cell (cut%partial).
+    subroutine partial_faces(dd, c0, nbb, nn, lowb)
+      integer, intent(in) :: dd, c0, nbb, nn
+      logical, intent(out) :: lowb(nbb, 0:nn)
+      integer :: ii
+      do ii = 0, nn
+        select case (dd)
+        case (1)
+          lowb(:, ii) = cut%partial(ii, 1:nbb, c0) .or. cut%partial(ii + 1, 1:nbb, c0)
+        case (2)
+          lowb(:, ii) = cut%partial(1:nbb, ii, c0) .or. cut%partial(1:nbb, ii + 1, c0)
+        case default
+          lowb(:, ii) = cut%partial(1:nbb, c0, ii) .or. cut%partial(1:nbb, c0, ii + 1)
+        end select
+      end do
+    end subroutine partial_faces
+
     subroutine bundle_x(k0, nbb, nn, gg, pw)
       integer, intent(in) :: k0, nbb, nn, gg
       real(wp), intent(out) :: pw(nbb, 1-gg:nn+gg, nv)
@@ -411,7 +441,7 @@ contains
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
   subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, wall, vwall, up, &
-      surf, low, pw, wl, wr, el, er, cl, cr, f, nfallback, failed)
+      surf, low, pw, wl, wr, el, er, cl, cr, f, nfallback, failed, low_bounded)
     type(eos_t), intent(in) :: eos
     real(wp), intent(in) :: shear
     integer, intent(in) :: scheme, flux_kind, nb, n, g, nv
@@ -425,6 +455,8 @@ contains
     real(wp), intent(out) :: cl(nb, 0:n), cr(nb, 0:n), f(nb, 0:n, nv)
     integer, intent(inout) :: nfallback
     logical, intent(inout) :: failed
+    !> faces whose eps_p and w_c take the cells' values (beside a cut cell, m_gfm_cut)
+    logical, intent(in), optional :: low_bounded(nb, 0:n)
     integer :: i, b, nf
     nf = nb * (n + 1)
     ! eps_p and w_c (pencil places i_epsp .. nv) keep face values within their neighbours'
@@ -436,6 +468,15 @@ contains
           if (.not. low(b, i)) cycle
           wl(b, i, :) = pw(b, i, :)
           wr(b, i, :) = pw(b, i + 1, :)
+        end do
+      end do
+    end if
+    if (present(low_bounded)) then
+      do i = 0, n
+        do b = 1, nb
+          if (.not. low_bounded(b, i)) cycle
+          wl(b, i, i_epsp:nv) = pw(b, i, i_epsp:nv)
+          wr(b, i, i_epsp:nv) = pw(b, i + 1, i_epsp:nv)
         end do
       end do
     end if
