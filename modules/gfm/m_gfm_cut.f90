@@ -77,7 +77,7 @@ contains
     integer :: n(3), b, g1(3)
     cut%on = .false.
     if (.not. asked) then
-      cut%reason = "off: &numerics interface_update = 'ghost_fluid'"
+      cut%reason = "off: &numerics conserve is not 'cut_cell'"
       return
     end if
     if (ls%n == 0) then
@@ -197,7 +197,7 @@ contains
     logical, intent(in) :: final             !< at the step's end (after its last stage)
     logical, intent(inout) :: failed
     integer, allocatable :: root(:, :, :, :)
-    real(wp), allocatable :: vol(:), cq(:, :, :, :)
+    real(wp), allocatable :: vol(:), cq(:, :, :, :), filled(:, :, :)
     integer :: e(3), n(3), i, j, k, r(3), lo, nf
     real(wp) :: sum_c(ph%nflow), sum_a, cc(ph%nflow), least
     lo = ph%lo(cut%p)
@@ -213,7 +213,13 @@ contains
       allocate(cq(1-lay%ng(1):n(1)+lay%ng(1), 1-lay%ng(2):n(2)+lay%ng(2), &
         1-lay%ng(3):n(3)+lay%ng(3), nf))
       cq = q(:, :, :, lo:lo + nf - 1)
-      call group_roots(lay, blk%offset, n, e, alpha_e, cut%small, root)
+      ! the fractions the groups are formed by: a wet cell whose content fills less of it
+      ! than its fraction says (a surface the level set has moved ahead of the material, as
+      ! where a void closes) counts by its content, at the phase's rest density
+      filled = alpha_e
+      where (alpha_e > 0.0_wp) filled = min(alpha_e, max(cq(1-e(1):n(1)+e(1), &
+        1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3), i_rho), 0.0_wp) / ph%rest(1, cut%p))
+      call group_roots(lay, blk%offset, n, e, filled, cut%small, root)
       do k = 1, n(3)
         do j = 1, n(2)
           do i = 1, n(1)
@@ -254,14 +260,14 @@ contains
               ! a cut cell: its content per mass at the density of the material beside it
               q(i, j, k, lo:lo + nf - 1) = cc * (reference_density([i, j, k], cc) / cc(i_rho))
               if (.not. admissible(q(i, j, k, lo:lo + nf - 1))) failed = .true.
-            else if (alpha(i, j, k) > 0.0_wp .and. (cc(i_rho) > 0.0_wp .or. &
-                alpha(i, j, k) >= cut%small)) then
+            else if (alpha(i, j, k) > 0.0_wp .and. cc(i_rho) > 0.0_wp) then
               q(i, j, k, lo:lo + nf - 1) = cc / alpha(i, j, k)
               if (.not. admissible(q(i, j, k, lo:lo + nf - 1))) failed = .true.
             else
-              ! no material (outside, or a small cell that nothing has reached yet): the
-              ! state it had at the step's start (a ghost or rest state, which the ghost fill
-              ! and m_gfm's rest state replace); its content is kept in cut%c
+              ! no material (outside, or a wet cell that nothing has reached yet, with no
+              ! neighbour to share with): the state it had at the step's start (a ghost or
+              ! rest state, which the ghost fill and m_gfm's rest state replace); its
+              ! content is kept in cut%c
               q(i, j, k, lo:lo + nf - 1) = blk%q0(i, j, k, lo:lo + nf - 1)
             end if
           end do
@@ -303,7 +309,7 @@ contains
           nb = c0
           nb(d) = nb(d) + s
           ! (only a small cell joins a group)
-          if (.not. alpha(nb(1), nb(2), nb(3)) < cut%small) cycle
+          if (.not. filled(nb(1) + e(1), nb(2) + e(2), nb(3) + e(3)) < cut%small) cycle
           if (all(root(:, nb(1), nb(2), nb(3)) == c0)) yes = .true.
         end do
       end do
