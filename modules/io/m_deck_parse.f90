@@ -22,14 +22,16 @@ module m_deck_parse
   !> One table line: group and name; kind 'r' real, 'i' integer, 'l' logical, 'c' string or
   !> 'k' keyword (a string lower-cased when read, one of `choices`, or empty when
   !> `empty_ok`); size (1 for a scalar), the length of a string, a typical value for the
-  !> messages, the meaning; the component (one pointer associated, by type and rank) and,
-  !> for a list written only as far as it is used, the count of its entries.
+  !> messages, the meaning, the values allowed (m_deck_check); the component (one pointer
+  !> associated, by type and rank) and, for a list written only as far as it is used, the
+  !> count of its entries.
   type :: deck_var_t
     character(len=8) :: group = ''
     character(len=24) :: name = ''
     character(len=1) :: kind = 'r'
     integer :: size = 1, clen = 0
     character(len=48) :: typical = ''
+    character(len=64) :: allowed = ''
     character(len=:), allocatable :: choices, meaning
     logical :: empty_ok = .false.
     real(wp), pointer :: r => null(), ra(:) => null()
