@@ -24,14 +24,12 @@ module m_deck_schema
   use m_yield, only: strength_model_names
   implicit none
   private
-  public :: deck_table, group_table, group_names, known_groups, var_index, group_of
+  public :: deck_table, group_table, group_names, var_index, group_of
   public :: fail, fail_now, rule, error_line, deck_errors_begin, deck_errors_stop
   public :: deck_error_count, deck_error_mark, deck_has_error
 
   character(len=8), parameter :: group_names(7) = [character(len=8) :: 'run', 'domain', &
     'numerics', 'physics', 'material', 'body', 'output']
-  character(len=*), parameter :: known_groups = &
-    'run, domain, numerics, physics, material, body, output'
   ! the choices that no module maps to constants (they are compared as names)
   character(len=12), parameter :: geometry_names(2) = [character(len=12) :: 'cartesian', &
     'axisymmetric']
