@@ -398,7 +398,6 @@ contains
 
     subroutine check_bodies()
       type(material_t) :: m
-      type(deck_var_t), allocatable :: vars(:)
       character(len=:), allocatable :: in_b, what
       integer :: i, d
       do i = 1, cfg%n_bodies
