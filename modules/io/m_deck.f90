@@ -17,7 +17,7 @@ module m_deck
   use m_deck_text, only: to_lower, edit_distance, int_text, quoted, in_list, joined, &
     base_name, dir_name, normal_path
   use m_deck_parse, only: deck_var_t, deck_assign_t, deck_group_t, deck_split, first_group, &
-    check_value, read_value, value_text
+    assign_value, value_text
   use m_deck_schema, only: deck_table, group_table, group_names, var_index, &
     group_of, fail, fail_now, error_line, deck_errors_begin, deck_errors_stop, deck_error_mark
   use m_deck_check, only: deck_check
@@ -135,31 +135,8 @@ contains
     logical :: found
     do i = 1, size(groups)
       gname = groups(i)%name
-      select case (gname)
-      case ('run', 'domain', 'numerics', 'physics', 'output')
-        j = first_group(groups, gname)
-        if (j < i) call fail('&' // gname, 'group given twice (lines ' // int_text(groups(j)%line) &
-          // ' and ' // int_text(groups(i)%line) // '); only &material and &body may repeat', '')
-        call deck_table(cfg, cfg%materials(1), cfg%bodies(1), vars)
-        call read_group(i, 0)
-      case ('material')
-        if (cfg%n_materials == max_materials) call fail_now('&material', 'more than ' &
-          // int_text(max_materials) // ' &material groups (max_materials of m_config)', '')
-        n = cfg%n_materials + 1
-        cfg%n_materials = n
-        call deck_table(cfg, cfg%materials(n), cfg%bodies(1), vars)
-        call read_group(i, 1)
-        gname = cfg%materials(n)%name
-        call library_lookup(gname, cfg%materials(n), found)
-        cfg%materials(n)%name = gname
-        call read_group(i, 2)
-      case ('body')
-        if (cfg%n_bodies == max_bodies) call fail_now('&body', 'more than ' &
-          // int_text(max_bodies) // ' &body groups (max_bodies of m_config)', '')
-        cfg%n_bodies = cfg%n_bodies + 1
-        call deck_table(cfg, cfg%materials(1), cfg%bodies(cfg%n_bodies), vars)
-        call read_group(i, 0)
-      case default
+      j = first_group(groups, gname)
+      if (.not. any(group_names == gname)) then
         call fail('&' // gname, 'unknown group (known: ' // joined(group_names) // ')', '')
         ! a misspelled group (&domian) is the group meant: the values missing there are
         ! the same mistake
@@ -167,7 +144,28 @@ contains
           if (edit_distance(gname, trim(group_names(j))) <= 2) &
             call deck_error_mark('&' // trim(group_names(j)) // ' *')
         end do
-      end select
+        cycle
+      else if (gname == 'material') then
+        if (cfg%n_materials == max_materials) call fail_now('&material', 'more than ' &
+          // int_text(max_materials) // ' &material groups (max_materials of m_config)', '')
+        cfg%n_materials = cfg%n_materials + 1
+      else if (gname == 'body') then
+        if (cfg%n_bodies == max_bodies) call fail_now('&body', 'more than ' &
+          // int_text(max_bodies) // ' &body groups (max_bodies of m_config)', '')
+        cfg%n_bodies = cfg%n_bodies + 1
+      else if (j < i) then
+        call fail('&' // gname, 'group given twice (lines ' // int_text(groups(j)%line) &
+          // ' and ' // int_text(groups(i)%line) // '); only &material and &body may repeat', '')
+      end if
+      ! the lines bound to the latest &material and &body (a new one starts from defaults)
+      n = max(1, cfg%n_materials)
+      call deck_table(cfg, cfg%materials(n), cfg%bodies(max(1, cfg%n_bodies)), vars)
+      call read_group(i, merge(1, 0, gname == 'material'))
+      if (gname /= 'material') cycle
+      gname = cfg%materials(n)%name
+      call library_lookup(gname, cfg%materials(n), found)
+      cfg%materials(n)%name = gname
+      call read_group(i, 2)
     end do
 
   contains
@@ -178,8 +176,7 @@ contains
     subroutine read_group(g, pass)
       integer, intent(in) :: g, pass
       character(len=:), allocatable :: why, where, at
-      character(len=line_len) :: msg
-      integer :: k, j, ios
+      integer :: k, j
       vars = pack(vars, vars%group == groups(g)%name)
       do k = 1, size(assigns)
         associate(a => assigns(k))
@@ -192,16 +189,12 @@ contains
           where = '&' // groups(g)%name // ' ' // trim(vars(j)%name)
           at = ' on the command line'
           if (a%line > 0) at = ' at line ' // int_text(a%line)
-          why = check_value(vars(j), a%index, a%value)
+          why = assign_value(vars(j), a%index, a%value)
           if (len(why) > 0) then
             call fail(where // a%index, why // at, vars(j)%typical)
-            cycle
+          else if (vars(j)%kind == 'k') then
+            call check_choice(where, vars(j))
           end if
-          msg = ''
-          call read_value(vars(j), a%index, a%value, ios, msg)
-          if (ios /= 0) call fail(where // a%index, 'cannot read ' // a%value // at // ' (' &
-            // trim(msg) // ')', vars(j)%typical)
-          if (vars(j)%kind == 'k') call check_choice(where, vars(j))
         end associate
       end do
     end subroutine read_group

@@ -2,19 +2,19 @@
 !> READ so that every complaint can name the group, the variable and the line. One tokenizer
 !> turns text into tokens with their lines; deck_split makes of them groups (`&name ... /`)
 !> of assignments `name[(index)] = value-text` (a syntax error comes back with its line);
-!> check_value says why a value text cannot be assigned to a table line (deck_var_t): index,
-!> count (r*c repeats included), the form of each constant (gfortran's own reader takes `3`
-!> for a string, `1` for a logical and `1e999` for a real, which then traps); read_value reads
-!> it list-directed, as a namelist would, and value_text writes it back. It knows no table
-!> and never stops the run: it returns reasons.
+!> assign_value checks a value text for a table line (deck_var_t) — index, count (r*c
+!> repeats included), the form of each constant (gfortran's own reader takes `3` for a
+!> string, `1` for a logical and `1e999` for a real, which then traps) — and reads it into
+!> the component, list-directed as a namelist would; value_text writes it back. It knows no
+!> table and never stops the run: it returns reasons.
 module m_deck_parse
-  use m_kinds, only: wp, name_len
+  use m_kinds, only: wp, name_len, line_len
   use m_config, only: is_set
   use m_deck_text, only: to_lower, int_text, real_text, quoted
   implicit none
   private
   public :: deck_var_t, deck_group_t, deck_assign_t
-  public :: deck_split, first_group, check_value, read_value, value_text
+  public :: deck_split, first_group, assign_value, value_text
 
   !> One table line: group and name; kind 'r' real, 'i' integer, 'l' logical, 'c' string or
   !> 'k' keyword (a string lower-cased when read, one of `choices`, or empty when
@@ -270,11 +270,15 @@ contains
     if (index(t, ' ') > 0) r = compact(t(:index(t, ' ') - 1) // t(index(t, ' ') + 1:))
   end function compact
 
-  !> Why `subscript` and `value` cannot be assigned to v, or '' when they can.
-  function check_value(v, subscript, value) result(why)
+  !> Assign `value` to the elements `subscript` of v's component, or say why it cannot be
+  !> ('' when it was). The whole text is checked before anything is read; then it is read
+  !> list-directed, as a namelist would (r*c repeats; null values keep what is there, and
+  !> so do the elements after the last value); keywords are lower-cased.
+  function assign_value(v, subscript, value) result(why)
     type(deck_var_t), intent(in) :: v
     character(len=*), intent(in) :: subscript, value
     character(len=:), allocatable :: why, s, item
+    character(len=line_len) :: msg
     type(token_t), allocatable :: t(:)
     integer :: first, last, count, k, star, repeat, ios
     why = ''
@@ -314,7 +318,22 @@ contains
       end if
     end do
     if (count == 0 .and. len(why) == 0) why = 'no value given'
-  end function check_value
+    if (len(why) > 0) return
+    s = value // ' /'
+    ios = 0
+    msg = ''
+    if (associated(v%r)) read(s, *, iostat=ios, iomsg=msg) v%r
+    if (associated(v%ra)) read(s, *, iostat=ios, iomsg=msg) v%ra(first:last)
+    if (associated(v%i)) read(s, *, iostat=ios, iomsg=msg) v%i
+    if (associated(v%ia)) read(s, *, iostat=ios, iomsg=msg) v%ia(first:last)
+    if (associated(v%l)) read(s, *, iostat=ios, iomsg=msg) v%l
+    if (associated(v%c)) read(s, *, iostat=ios, iomsg=msg) v%c
+    if (associated(v%ca)) read(s, *, iostat=ios, iomsg=msg) v%ca(first:last)
+    if (ios /= 0) why = 'cannot read ' // value // ' (' // trim(msg) // ')'
+    if (v%kind /= 'k') return
+    if (associated(v%c)) v%c = to_lower(v%c)
+    if (associated(v%ca)) v%ca = to_lower(v%ca)
+  end function assign_value
 
   function check_constant(v, c) result(why)
     type(deck_var_t), intent(in) :: v
@@ -339,33 +358,6 @@ contains
       end if
     end select
   end function check_constant
-
-  !> Read a value text that check_value has passed into the elements `subscript` of v's
-  !> component (list-directed, as a namelist would: r*c repeats, null values keep what is
-  !> there, and so do the elements after the last value); keywords are lower-cased.
-  subroutine read_value(v, subscript, value, ios, msg)
-    type(deck_var_t), intent(in) :: v
-    character(len=*), intent(in) :: subscript, value
-    integer, intent(out) :: ios
-    character(len=*), intent(inout) :: msg
-    character(len=:), allocatable :: t, why
-    integer :: lo, hi
-    lo = 1
-    hi = v%size
-    if (len(subscript) > 0) call parse_index(subscript, lo, hi, why)
-    t = value // ' /'
-    ios = 0
-    if (associated(v%r)) read(t, *, iostat=ios, iomsg=msg) v%r
-    if (associated(v%ra)) read(t, *, iostat=ios, iomsg=msg) v%ra(lo:hi)
-    if (associated(v%i)) read(t, *, iostat=ios, iomsg=msg) v%i
-    if (associated(v%ia)) read(t, *, iostat=ios, iomsg=msg) v%ia(lo:hi)
-    if (associated(v%l)) read(t, *, iostat=ios, iomsg=msg) v%l
-    if (associated(v%c)) read(t, *, iostat=ios, iomsg=msg) v%c
-    if (associated(v%ca)) read(t, *, iostat=ios, iomsg=msg) v%ca(lo:hi)
-    if (v%kind /= 'k') return
-    if (associated(v%c)) v%c = to_lower(v%c)
-    if (associated(v%ca)) v%ca = to_lower(v%ca)
-  end subroutine read_value
 
   !> v's component as deck text ('' for a real left unset); a list with a count is written
   !> as far as it is used (one entry at least).
