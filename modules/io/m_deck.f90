@@ -205,23 +205,17 @@ contains
   subroutine check_choice(where, v)
     character(len=*), intent(in) :: where
     type(deck_var_t), intent(in) :: v
+    character(len=:), allocatable :: x, what
     integer :: k
-    if (associated(v%c)) call one(v%c, '')
-    if (associated(v%ca)) then
-      do k = 1, size(v%ca)
-        call one(v%ca(k), '(' // int_text(k) // ')')
-      end do
-    end if
-  contains
-    subroutine one(x, subscript)
-      character(len=*), intent(in) :: x, subscript
-      character(len=:), allocatable :: what
-      if (in_list(x, v%choices) .or. (v%empty_ok .and. len_trim(x) == 0)) return
-      what = trim(v%name)
-      if (what(1:min(3, len(what))) == 'bc_') what = 'bc'
-      call fail(where // subscript, 'unknown ' // what // " '" // trim(x) &
-        // "' (allowed: " // v%choices // ')', '')
-    end subroutine one
+    what = trim(v%name)
+    if (what(1:min(3, len(what))) == 'bc_') what = 'bc'
+    do k = 1, v%size
+      if (associated(v%c)) x = trim(v%c)
+      if (associated(v%ca)) x = trim(v%ca(k))
+      if (in_list(x, v%choices) .or. (v%empty_ok .and. len(x) == 0)) cycle
+      call fail(where // repeat('(' // int_text(k) // ')', merge(1, 0, associated(v%ca))), &
+        'unknown ' // what // " '" // x // "' (allowed: " // v%choices // ')', '')
+    end do
   end subroutine check_choice
 
   !> An unknown variable: the nearest name of the group, or the group it belongs in.
