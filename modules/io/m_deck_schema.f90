@@ -321,13 +321,9 @@ contains
   logical function deck_has_error(where) result(has)
     character(len=*), intent(in) :: where
     character(len=:), allocatable :: key
-    integer :: blank
-    has = .false.
-    key = error_key(where)
-    blank = index(key, ' ')
-    if (blank == 0) return
+    key = error_key(where)   ! (without a blank: no variable, '|*|' is never there)
     has = index(err_keys, '|' // key // '|') > 0 .or. &
-      index(err_keys, '|' // key(1:blank) // '*|') > 0
+      index(err_keys, '|' // key(1:index(key, ' ')) // '*|') > 0
   end function deck_has_error
 
   !> `ERROR <base> <where>: <why> (typical value <typical>)`, without `<where>` or the
