@@ -178,12 +178,13 @@ contains
       type(material_t), target, intent(inout) :: m
       type(deck_var_t), allocatable :: vars(:)
       character(len=:), allocatable :: in_m, model, why
-      integer :: k, ke, km, n_before, n_start
+      integer :: k, ke, km, ks, n_before, n_start
       n_start = deck_error_count()
       ! a name that could not be read: which material this is, and so its values, is unknown
       if (len_trim(m%name) == 0 .and. deck_has_error('&material name')) return
       call deck_table(cfg, m, cfg%bodies(1), vars)
       vars = pack(vars, vars%group == 'material')
+      ks = var_index(vars, 'strength_model')   ! the eos lines before it, strength's after
       call rule(len_trim(m%name) == 0, 'material name', 'missing required value')
       in_m = " in material '" // trim(m%name) // "'"
       call rule(.not. valid_name(m%name), 'material name', "'" // trim(m%name) &
@@ -195,14 +196,16 @@ contains
       ! an unknown or missing eos needs nothing more
       if (deck_error_count() == n_start .and. ke > 0) &
         call need(vars, eos_needs(ke), "eos '" // trim(m%eos) // "'" // in_m)
+      call check_allowed(vars(1:ks), in_m)
       if (is_set(m%p0) .and. m%eos == 'ideal_gas') call rule(m%p0 < 0.0_wp, 'material p0', &
         'must be >= 0.0' // in_m // gr(m%p0))
-      if (is_set(m%p0) .and. m%eos == 'stiffened_gas') call rule(.not. m%p0 > -m%p_inf, &
-        'material p0', 'must be > ' // real_text(-m%p_inf) // in_m // gr(m%p0))
+      ! (p_inf missing is an error already; real_text(-unset) would overflow)
+      if (is_set(m%p0) .and. is_set(m%p_inf) .and. m%eos == 'stiffened_gas') call rule(.not. &
+        m%p0 > -m%p_inf, 'material p0', 'must be > ' // real_text(-m%p_inf) // in_m // gr(m%p0))
       ! strength values (the table's lines after strength_model) without a model would be
       ! ignored without a word: refuse them
       if (len_trim(m%strength_model) == 0) then
-        do k = var_index(vars, 'strength_model') + 1, size(vars)
+        do k = ks + 1, size(vars)
           call rule(is_set(vars(k)%r), 'material strength_model', 'missing required value' &
             // in_m // ' (it gives ' // trim(vars(k)%name) // "; set strength_model = " &
             // "'none' to run without strength)")
@@ -226,7 +229,7 @@ contains
       if (is_set(m%T0) .and. is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, &
         'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // gr(m%t_melt))
       ! vp_m < 1 (its line): the flow stress then grows with the rate, the return has one root
-      call check_allowed(vars, in_m)
+      call check_allowed(vars(ks + 1:), in_m)
       ! the strength modules' own test of the parameters, should it know more than the above
       if (deck_error_count() > n_start .or. ke == 0 .or. km == 0) return
       why = strength_problem(strength_from_material(m))
@@ -438,7 +441,7 @@ contains
             call rule(.not. b%T > 0.0_wp, 'body T', 'must be > 0' // in_b // gr(b%T))
           else if (m%eos == 'ideal_gas') then
             call rule(b%p < 0.0_wp, 'body p', 'must be >= 0 for a gas' // in_b // gr(b%p))
-          else if (m%eos == 'stiffened_gas') then
+          else if (m%eos == 'stiffened_gas' .and. is_set(m%p_inf)) then   ! (else an error already)
             call rule(.not. b%p > -m%p_inf, 'body p', 'must be > -p_inf = ' &
               // real_text(-m%p_inf) // in_b // gr(b%p))
           end if
