@@ -1,19 +1,13 @@
 !> The input deck (DESIGN section 6). deck_read reads a namelist deck plus command-line
-!> overrides into a config_t, resolved and checked. Every rank parses the same text (read
-!> once by rank 0 and broadcast), so every rank finds the same errors; each is reported
-!> as one line
-!>   ERROR <deck file> &<group> <variable>: <reason> (typical value <example>)
-!> before anything is written, all of them in one run (a wrong value is skipped and the
-!> reading goes on; m_deck_schema gathers the lines). The text is split by m_deck_parse;
-!> each assignment is found in the table of m_deck_schema, checked for form, count and
-!> index (m_deck_parse) and read into the component its table line points at (repeated
-!> &material and &body groups start from defaults); m_deck_check then resolves and checks
-!> the whole. deck_prepare_output checks out_dir (results of an earlier run are kept unless
-!> overwrite is set) and the restart file, creates the folder and writes the resolved deck
-!> there; deck_write_resolved writes a configuration back as a deck, every value of the
-!> table with the defaults filled in, so that deck_read of it gives back the same
-!> configuration bit for bit. It does not interpret the physics: what a material or shape
-!> means is for eos/, scene/.
+!> overrides into a config_t, resolved and checked, all its errors in one run (m_deck_schema
+!> gathers them); every rank parses the same text (read by rank 0, broadcast), so every rank
+!> finds the same errors. The text is split by m_deck_parse; each assignment is found in the
+!> table of m_deck_schema, checked for form, count and index and read into the component its
+!> line points at (repeated &material and &body groups start from defaults); m_deck_check
+!> resolves and checks the whole. deck_prepare_output checks out_dir (earlier results are kept
+!> unless overwrite is set) and restart, creates the folder and writes the resolved deck
+!> there: deck_write_resolved writes every value of the table, defaults filled in, so that
+!> deck_read of it gives back the same configuration bit for bit. No physics (eos/, scene/).
 module m_deck
   use m_kinds, only: path_len, line_len
   use m_config, only: config_t, max_materials, max_bodies
@@ -21,10 +15,10 @@ module m_deck
   use m_comm, only: comm_bcast, comm_is_root
   use m_material_library, only: library_lookup
   use m_deck_text, only: to_lower, edit_distance, int_text, quoted, in_list, joined, &
-    base_name, shell_quoted, dir_name, normal_path
+    base_name, dir_name, normal_path
   use m_deck_parse, only: deck_var_t, deck_assign_t, deck_group_t, deck_split, first_group, &
-    check_value, read_value, value_text
-  use m_deck_schema, only: deck_table, group_table, known_groups, group_names, var_index, &
+    assign_value, value_text
+  use m_deck_schema, only: deck_table, group_table, group_names, var_index, &
     group_of, fail, fail_now, error_line, deck_errors_begin, deck_errors_stop, deck_error_mark
   use m_deck_check, only: deck_check
   implicit none
@@ -104,19 +98,14 @@ contains
       end if
       gname = to_lower(trim(ov(1:dot - 1)))
       name = to_lower(trim(lhs(1:paren - 1)))
-      if (.not. in_list(gname, known_groups)) then
-        call fail('&' // gname, 'unknown group (known: ' // known_groups // ')', '')
-        cycle
-      end if
+      value = trim(adjustl(ov(eq + 1:)))
+      ! an unknown group or variable is reported when the group is read
       vars = group_table(gname)
       k = var_index(vars, name)
-      if (k == 0) then
-        call fail_unknown_var(gname, name, vars)
-        cycle
+      if (k > 0) then
+        if (index('ck', vars(k)%kind) > 0 .and. scan(value(1:min(1, len(value))), "'""") == 0) &
+          value = auto_quote(value)
       end if
-      value = trim(adjustl(ov(eq + 1:)))
-      if (index('ck', vars(k)%kind) > 0 .and. scan(value(1:min(1, len(value))), "'""") == 0) &
-        value = auto_quote(value)
       if (first_group(groups, gname) == 0) groups = [groups, deck_group_t(gname, 0)]
       assigns = [assigns, deck_assign_t(first_group(groups, gname), 0, name, lhs(paren:), &
         value)]
@@ -146,41 +135,37 @@ contains
     logical :: found
     do i = 1, size(groups)
       gname = groups(i)%name
-      select case (gname)
-      case ('run', 'domain', 'numerics', 'physics', 'output')
-        do j = 1, i - 1
-          if (groups(j)%name == gname) call fail('&' // gname, 'group given twice ' &
-            // '(lines ' // int_text(groups(j)%line) // ' and ' // int_text(groups(i)%line) &
-            // '); only &material and &body may repeat', '')
-        end do
-        call deck_table(cfg, cfg%materials(1), cfg%bodies(1), vars)
-        call read_group(i, 0)
-      case ('material')
-        if (cfg%n_materials == max_materials) call fail_now('&material', 'more than ' &
-          // int_text(max_materials) // ' &material groups (max_materials of m_config)', '')
-        n = cfg%n_materials + 1
-        cfg%n_materials = n
-        call deck_table(cfg, cfg%materials(n), cfg%bodies(1), vars)
-        call read_group(i, 1)
-        gname = cfg%materials(n)%name
-        call library_lookup(gname, cfg%materials(n), found)
-        cfg%materials(n)%name = gname
-        call read_group(i, 2)
-      case ('body')
-        if (cfg%n_bodies == max_bodies) call fail_now('&body', 'more than ' &
-          // int_text(max_bodies) // ' &body groups (max_bodies of m_config)', '')
-        cfg%n_bodies = cfg%n_bodies + 1
-        call deck_table(cfg, cfg%materials(1), cfg%bodies(cfg%n_bodies), vars)
-        call read_group(i, 0)
-      case default
-        call fail('&' // gname, 'unknown group (known: ' // known_groups // ')', '')
+      j = first_group(groups, gname)
+      if (.not. any(group_names == gname)) then
+        call fail('&' // gname, 'unknown group (known: ' // joined(group_names) // ')', '')
         ! a misspelled group (&domian) is the group meant: the values missing there are
         ! the same mistake
         do j = 1, size(group_names)
           if (edit_distance(gname, trim(group_names(j))) <= 2) &
             call deck_error_mark('&' // trim(group_names(j)) // ' *')
         end do
-      end select
+        cycle
+      else if (gname == 'material') then
+        if (cfg%n_materials == max_materials) call fail_now('&material', 'more than ' &
+          // int_text(max_materials) // ' &material groups (max_materials of m_config)', '')
+        cfg%n_materials = cfg%n_materials + 1
+      else if (gname == 'body') then
+        if (cfg%n_bodies == max_bodies) call fail_now('&body', 'more than ' &
+          // int_text(max_bodies) // ' &body groups (max_bodies of m_config)', '')
+        cfg%n_bodies = cfg%n_bodies + 1
+      else if (j < i) then
+        call fail('&' // gname, 'group given twice (lines ' // int_text(groups(j)%line) &
+          // ' and ' // int_text(groups(i)%line) // '); only &material and &body may repeat', '')
+      end if
+      ! the lines bound to the latest &material and &body (a new one starts from defaults)
+      n = max(1, cfg%n_materials)
+      call deck_table(cfg, cfg%materials(n), cfg%bodies(max(1, cfg%n_bodies)), vars)
+      call read_group(i, merge(1, 0, gname == 'material'))
+      if (gname /= 'material') cycle
+      gname = cfg%materials(n)%name
+      call library_lookup(gname, cfg%materials(n), found)
+      cfg%materials(n)%name = gname
+      call read_group(i, 2)
     end do
 
   contains
@@ -191,8 +176,7 @@ contains
     subroutine read_group(g, pass)
       integer, intent(in) :: g, pass
       character(len=:), allocatable :: why, where, at
-      character(len=line_len) :: msg
-      integer :: k, j, ios
+      integer :: k, j
       vars = pack(vars, vars%group == groups(g)%name)
       do k = 1, size(assigns)
         associate(a => assigns(k))
@@ -205,16 +189,12 @@ contains
           where = '&' // groups(g)%name // ' ' // trim(vars(j)%name)
           at = ' on the command line'
           if (a%line > 0) at = ' at line ' // int_text(a%line)
-          why = check_value(vars(j), a%index, a%value)
+          why = assign_value(vars(j), a%index, a%value)
           if (len(why) > 0) then
             call fail(where // a%index, why // at, vars(j)%typical)
-            cycle
+          else if (vars(j)%kind == 'k') then
+            call check_choice(where, vars(j))
           end if
-          msg = ''
-          call read_value(vars(j), a%index, a%value, ios, msg)
-          if (ios /= 0) call fail(where // a%index, 'cannot read ' // a%value // at // ' (' &
-            // trim(msg) // ')', vars(j)%typical)
-          if (vars(j)%kind == 'k') call check_choice(where, vars(j))
         end associate
       end do
     end subroutine read_group
@@ -225,23 +205,17 @@ contains
   subroutine check_choice(where, v)
     character(len=*), intent(in) :: where
     type(deck_var_t), intent(in) :: v
+    character(len=:), allocatable :: x, what
     integer :: k
-    if (associated(v%c)) call one(v%c, '')
-    if (associated(v%ca)) then
-      do k = 1, size(v%ca)
-        call one(v%ca(k), '(' // int_text(k) // ')')
-      end do
-    end if
-  contains
-    subroutine one(x, subscript)
-      character(len=*), intent(in) :: x, subscript
-      character(len=:), allocatable :: what
-      if (in_list(x, v%choices) .or. (v%empty_ok .and. len_trim(x) == 0)) return
-      what = trim(v%name)
-      if (what(1:min(3, len(what))) == 'bc_') what = 'bc'
-      call fail(where // subscript, 'unknown ' // what // " '" // trim(x) &
-        // "' (allowed: " // v%choices // ')', '')
-    end subroutine one
+    what = trim(v%name)
+    if (what(1:min(3, len(what))) == 'bc_') what = 'bc'
+    do k = 1, v%size
+      if (associated(v%c)) x = trim(v%c)
+      if (associated(v%ca)) x = trim(v%ca(k))
+      if (in_list(x, v%choices) .or. (v%empty_ok .and. len(x) == 0)) cycle
+      call fail(where // repeat('(' // int_text(k) // ')', merge(1, 0, associated(v%ca))), &
+        'unknown ' // what // " '" // x // "' (allowed: " // v%choices // ')', '')
+    end do
   end subroutine check_choice
 
   !> An unknown variable: the nearest name of the group, or the group it belongs in.
@@ -293,13 +267,11 @@ contains
       if (ok .and. cfg%overwrite .and. .not. continuing) then
         ! a fresh run replaces the results it overwrites: an old plot file with a later step
         ! number must not pass for this run's last one
-        call execute_command_line('rm -f ' // shell_quoted(dir) // '/run.log ' // &
-          shell_quoted(dir) // '/history.csv ' // shell_quoted(dir) // '/plot_*.h5 ' // &
-          shell_quoted(dir) // '/plot_*.xmf ' // shell_quoted(dir) // '/chk_*.h5', &
-          exitstat=stat, cmdstat=cmd_stat)
+        call execute_command_line('cd ' // quoted(dir, shell=.true.) // ' 2>/dev/null && rm -f ' &
+          // 'run.log history.csv plot_*.h5 plot_*.xmf chk_*.h5', exitstat=stat, cmdstat=cmd_stat)
       end if
       if (ok) then
-        call execute_command_line('mkdir -p ' // shell_quoted(dir), exitstat=stat, &
+        call execute_command_line('mkdir -p ' // quoted(dir, shell=.true.), exitstat=stat, &
           cmdstat=cmd_stat)
         if (stat /= 0 .or. cmd_stat /= 0) call refuse('&run out_dir', "cannot create '" &
           // dir // "' (check the path and permissions)", "'out/sod'")
@@ -327,13 +299,8 @@ contains
   logical function holds_results(dir)
     character(len=*), intent(in) :: dir
     integer :: stat, cmd_stat
-    logical :: exists
-    inquire(file=dir // '/run.log', exist=holds_results)
-    inquire(file=dir // '/history.csv', exist=exists)
-    holds_results = holds_results .or. exists
-    if (holds_results) return
-    call execute_command_line('ls -1A ' // shell_quoted(dir) // ' 2>/dev/null | grep -Eq ' &
-      // "'^(plot_.*|chk_.*)\.h5$'", exitstat=stat, cmdstat=cmd_stat)
+    call execute_command_line('ls -1A ' // quoted(dir, shell=.true.) // ' 2>/dev/null | grep -Eq ' &
+      // "'^(run\.log|history\.csv|(plot_.*|chk_.*)\.h5)$'", exitstat=stat, cmdstat=cmd_stat)
     holds_results = (cmd_stat == 0 .and. stat == 0)
   end function holds_results
 

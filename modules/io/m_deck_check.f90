@@ -53,32 +53,15 @@ contains
     type(deck_group_t), intent(in) :: groups(:)
     type(deck_assign_t), intent(in) :: assigns(:)
     type(config_t), target, intent(inout) :: cfg
+    type(deck_var_t), allocatable :: vars(:)
     integer :: i
-    ! &run
-    ! (a real left unset is not written in a message: gr(unset) would overflow)
-    if (is_set(cfg%t_end)) call rule(.not. cfg%t_end > 0.0_wp, 'run t_end', 'must be > 0' &
-      // gr(cfg%t_end))
+    ! the values of &run, &domain, &numerics and &output where their table lines allow
+    call deck_table(cfg, cfg%materials(1), cfg%bodies(1), vars)
+    call check_allowed(pack(vars, vars%group /= 'material' .and. vars%group /= 'body'), '')
     call rule(.not. is_set(cfg%t_end) .and. .not. given('run', 'max_steps'), 'run t_end', &
       'missing required value (give t_end or max_steps)')
-    call rule(cfg%max_steps < 0, 'run max_steps', 'must be >= 0' // gi(cfg%max_steps))
-    call rule(cfg%wall_limit < 0.0_wp, 'run wall_limit', 'must be >= 0 (0 = no limit)' &
-      // gr(cfg%wall_limit))
     call rule(len_trim(cfg%out_dir) == 0, 'run out_dir', 'missing required value (it is empty)')
     call check_domain()
-    ! &numerics (an empty scheme, flux or scalar_flux is left to m_numerics_defaults)
-    call rule(cfg%rk_order < 1 .or. cfg%rk_order > 3, 'numerics rk_order', &
-      'must be 1, 2 or 3' // gi(cfg%rk_order))
-    call rule(.not. (cfg%cfl > 0.0_wp .and. cfg%cfl <= 1.0_wp), 'numerics cfl', &
-      'must be in (0, 1]' // gr(cfg%cfl))
-    if (is_set(cfg%dt_max)) call rule(.not. cfg%dt_max > 0.0_wp, 'numerics dt_max', &
-      'must be > 0 (leave it out for no cap)' // gr(cfg%dt_max))
-    call rule(cfg%reinit_every < 1, 'numerics reinit_every', &
-      'must be >= 1 (steps between level-set reinitialisations)' // gi(cfg%reinit_every))
-    call rule(cfg%band < min_block, 'numerics band', &
-      'must be >= 4 cells (the ghost band is 4 deep)' // gi(cfg%band))
-    call rule(.not. (cfg%contact_kappa > 0.0_wp .and. cfg%contact_kappa <= 3.0_wp), &
-      'numerics contact_kappa', 'must be in (0, 3] (bodies closer than 2 kappa dx are in ' &
-      // 'contact)' // gr(cfg%contact_kappa))
     call check_output()
     ! &material: each, then the library entries that the base material and bodies use
     do i = 1, cfg%n_materials
@@ -167,21 +150,11 @@ contains
         '&domain lo') .and. cfg%bc_lo(1) /= 'symmetry', 'domain bc_lo(1)', "must be " &
         // "'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), got '" &
         // trim(cfg%bc_lo(1)) // "'")
-      call rule(cfg%bc_rise_time < 0.0_wp, 'domain bc_rise_time', 'must be >= 0' &
-        // gr(cfg%bc_rise_time))
     end subroutine check_domain
 
     subroutine check_output()
       character(len=name_len) :: kept(max_fields)
       integer :: k, n
-      call rule(cfg%plot_dt < 0.0_wp, 'output plot_dt', &
-        'must be >= 0 (0 = no plots by time)' // gr(cfg%plot_dt))
-      call rule(cfg%plot_every < 0, 'output plot_every', &
-        'must be >= 0 (0 = no plots by step)' // gi(cfg%plot_every))
-      call rule(cfg%checkpoint_every < 0, 'output checkpoint_every', &
-        'must be >= 0 (0 = only at wall_limit)' // gi(cfg%checkpoint_every))
-      call rule(cfg%history_every < 1, 'output history_every', &
-        'must be >= 1' // gi(cfg%history_every))
       n = 0
       kept = ''
       do k = 1, max_fields
@@ -205,12 +178,13 @@ contains
       type(material_t), target, intent(inout) :: m
       type(deck_var_t), allocatable :: vars(:)
       character(len=:), allocatable :: in_m, model, why
-      integer :: k, ke, km, n_before, n_start
+      integer :: k, ke, km, ks, n_before, n_start
       n_start = deck_error_count()
       ! a name that could not be read: which material this is, and so its values, is unknown
       if (len_trim(m%name) == 0 .and. deck_has_error('&material name')) return
       call deck_table(cfg, m, cfg%bodies(1), vars)
       vars = pack(vars, vars%group == 'material')
+      ks = var_index(vars, 'strength_model')   ! the eos lines before it, strength's after
       call rule(len_trim(m%name) == 0, 'material name', 'missing required value')
       in_m = " in material '" // trim(m%name) // "'"
       call rule(.not. valid_name(m%name), 'material name', "'" // trim(m%name) &
@@ -222,21 +196,16 @@ contains
       ! an unknown or missing eos needs nothing more
       if (deck_error_count() == n_start .and. ke > 0) &
         call need(vars, eos_needs(ke), "eos '" // trim(m%eos) // "'" // in_m)
-      call at_least(m%rho0, 'rho0', .true., 0.0_wp, in_m)
-      call at_least(m%gamma, 'gamma', .true., 1.0_wp, in_m)
-      call at_least(m%p_inf, 'p_inf', .false., 0.0_wp, in_m)
-      call at_least(m%c0, 'c0', .true., 0.0_wp, in_m)
-      call at_least(m%s, 's', .false., 0.0_wp, in_m)
-      call at_least(m%gruneisen, 'gruneisen', .false., 0.0_wp, in_m)
-      call at_least(m%cv, 'cv', .true., 0.0_wp, in_m)
-      call at_least(m%T0, 'T0', .true., 0.0_wp, in_m)
-      if (m%eos == 'ideal_gas') call at_least(m%p0, 'p0', .false., 0.0_wp, in_m)
-      if (m%eos == 'stiffened_gas') call at_least(m%p0, 'p0', .true., -m%p_inf, in_m)
-      call at_least(m%bulk_modulus, 'bulk_modulus', .true., 0.0_wp, in_m)
+      call check_allowed(vars(1:ks), in_m)
+      if (is_set(m%p0) .and. m%eos == 'ideal_gas') call rule(m%p0 < 0.0_wp, 'material p0', &
+        'must be >= 0.0' // in_m // gr(m%p0))
+      ! (p_inf missing is an error already; real_text(-unset) would overflow)
+      if (is_set(m%p0) .and. is_set(m%p_inf) .and. m%eos == 'stiffened_gas') call rule(.not. &
+        m%p0 > -m%p_inf, 'material p0', 'must be > ' // real_text(-m%p_inf) // in_m // gr(m%p0))
       ! strength values (the table's lines after strength_model) without a model would be
       ! ignored without a word: refuse them
       if (len_trim(m%strength_model) == 0) then
-        do k = var_index(vars, 'strength_model') + 1, size(vars)
+        do k = ks + 1, size(vars)
           call rule(is_set(vars(k)%r), 'material strength_model', 'missing required value' &
             // in_m // ' (it gives ' // trim(vars(k)%name) // "; set strength_model = " &
             // "'none' to run without strength)")
@@ -254,26 +223,13 @@ contains
       if (model == 'johnson_cook' .and. .not. is_set(m%eps_rate0)) m%eps_rate0 = 1.0_wp
       if (deck_error_count() == n_before .and. km > 0) &
         call need(vars, model_needs(km), "strength_model '" // model // "'" // in_m)
-      call at_least(m%shear_modulus, 'shear_modulus', .true., 0.0_wp, in_m)
       ! a perfectly plastic solid without a yield stress is a fluid
-      call at_least(m%yield0, 'yield0', model == 'perfectly_plastic', 0.0_wp, in_m)
-      call at_least(m%hardening_modulus, 'hardening_modulus', .false., 0.0_wp, in_m)
-      call at_least(m%jc_b, 'jc_b', .false., 0.0_wp, in_m)
-      call at_least(m%jc_n, 'jc_n', .true., 0.0_wp, in_m)
-      call at_least(m%jc_c, 'jc_c', .false., 0.0_wp, in_m)
-      call at_least(m%jc_m, 'jc_m', .true., 0.0_wp, in_m)
+      if (is_set(m%yield0)) call rule(model == 'perfectly_plastic' .and. .not. m%yield0 > 0.0_wp, &
+        'material yield0', 'must be > 0.0' // in_m // gr(m%yield0))
       if (is_set(m%T0) .and. is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, &
         'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // gr(m%t_melt))
-      if (.not. is_set(m%T0)) call at_least(m%t_melt, 't_melt', .true., 0.0_wp, in_m)
-      call at_least(m%eps_rate0, 'eps_rate0', .true., 0.0_wp, in_m)
-      call at_least(m%vp_chi, 'vp_chi', .true., 0.0_wp, in_m)
-      call at_least(m%vp_n, 'vp_n', .true., 0.0_wp, in_m)
-      ! m < 1: the flow stress then grows with the plastic rate, and the return has one root
-      if (is_set(m%vp_m)) call rule(.not. m%vp_m < 1.0_wp, 'material vp_m', 'must be < 1.0' &
-        // in_m // gr(m%vp_m))
-      if (is_set(m%taylor_quinney)) call rule(m%taylor_quinney < 0.0_wp .or. &
-        m%taylor_quinney > 1.0_wp, 'material taylor_quinney', 'must lie in [0, 1] (the ' &
-        // 'share of plastic work that heats)' // in_m // gr(m%taylor_quinney))
+      ! vp_m < 1 (its line): the flow stress then grows with the rate, the return has one root
+      call check_allowed(vars(ks + 1:), in_m)
       ! the strength modules' own test of the parameters, should it know more than the above
       if (deck_error_count() > n_start .or. ke == 0 .or. km == 0) return
       why = strength_problem(strength_from_material(m))
@@ -470,8 +426,8 @@ contains
           call rule((b%shape == 'cylinder' .or. b%shape == 'half_space') .and. .not. &
             maxval(abs(b%axis)) > 0.0_wp, 'body axis', 'must not be zero for a ' &
             // trim(b%shape) // in_b)
-          call rule(.not. abs(b%amplitude) < 1.0_wp, 'body amplitude', 'must lie in (-1, 1) so ' &
-            // 'that rho (1 + amplitude sin(2 pi k.x)) stays > 0' // in_b // gr(b%amplitude))
+          call deck_table(cfg, cfg%materials(1), b, vars)
+          call check_allowed(pack(vars, vars%group == 'body'), in_b)
           if (b%material == 'void' .or. b%material == 'rigid') cycle
           if (material_index(cfg, b%material) == 0) cycle   ! an error already
           m = cfg%materials(material_index(cfg, b%material))
@@ -485,7 +441,7 @@ contains
             call rule(.not. b%T > 0.0_wp, 'body T', 'must be > 0' // in_b // gr(b%T))
           else if (m%eos == 'ideal_gas') then
             call rule(b%p < 0.0_wp, 'body p', 'must be >= 0 for a gas' // in_b // gr(b%p))
-          else if (m%eos == 'stiffened_gas') then
+          else if (m%eos == 'stiffened_gas' .and. is_set(m%p_inf)) then   ! (else an error already)
             call rule(.not. b%p > -m%p_inf, 'body p', 'must be > -p_inf = ' &
               // real_text(-m%p_inf) // in_b // gr(b%p))
           end if
@@ -510,15 +466,44 @@ contains
     end do
   end subroutine need
 
-  !> A material's value x (when set) must be > bound (strict) or >= bound.
-  subroutine at_least(x, name, strict, bound, in_m)
-    real(wp), intent(in) :: x, bound
-    character(len=*), intent(in) :: name, in_m
-    logical, intent(in) :: strict
-    if (is_set(x)) call rule(x < bound .or. (strict .and. .not. x > bound), 'material ' &
-      // name, 'must be ' // trim(merge('> ', '>=', strict)) // ' ' // real_text(bound) &
-      // in_m // gr(x))
-  end subroutine at_least
+  !> Each value of the table lines vars that has a set value and an allowed range must lie
+  !> in it (deck_table: `> a`, `>= a`, `< a`, `in (a, b]`, `a, b or c`, then a reason);
+  !> in names the material or body (" in body 'ball'"), or is ''.
+  subroutine check_allowed(vars, in)
+    type(deck_var_t), intent(in) :: vars(:)
+    character(len=*), intent(in) :: in
+    character(len=:), allocatable :: a, got
+    real(wp) :: x, lo, hi
+    integer :: k, e
+    logical :: ok
+    do k = 1, size(vars)
+      a = trim(vars(k)%allowed)
+      if (len(a) == 0) cycle
+      if (associated(vars(k)%r)) then
+        if (.not. is_set(vars(k)%r)) cycle   ! (unset is not written: real_text would overflow)
+        x = vars(k)%r
+        got = gr(x)
+      else
+        x = real(vars(k)%i, wp)
+        got = gi(vars(k)%i)
+      end if
+      if (a(1:1) == '>' .or. a(1:1) == '<') then
+        read(a(scan(a, ' '):), *) lo
+        ok = (a(1:2) == '> ' .and. x > lo) .or. (a(1:2) == '>=' .and. x >= lo) .or. &
+          (a(1:2) == '< ' .and. x < lo)
+      else if (a(1:3) == 'in ') then
+        e = scan(a, ')]')
+        read(a(5:e - 1), *) lo, hi
+        ok = (x > lo .or. (a(4:4) == '[' .and. x >= lo)) .and. (x < hi .or. (a(e:e) == ']' &
+          .and. x <= hi))
+      else   ! a list of integers 'a, b or c'
+        e = index(a, ' or ')
+        ok = in_list(int_text(vars(k)%i), a(1:e - 1)) .or. int_text(vars(k)%i) == a(e + 4:)
+      end if
+      call rule(.not. ok, trim(vars(k)%group) // ' ' // trim(vars(k)%name), 'must be ' // a &
+        // in // got)
+    end do
+  end subroutine check_allowed
 
   !> Cells per block along a direction of n cells (manual/user-guide.md, Blocks): a target of
   !> 64 cells in 1D, 64^2 in 2D and 32^3 in 3D (the halo adds 12 %, 27 % and 95 %), n itself

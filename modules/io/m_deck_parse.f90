@@ -1,35 +1,34 @@
-!> The lexical layer of deck reading (DESIGN section 6), done by hand rather than by a
-!> namelist READ so that every complaint can name the group, the variable and the line.
-!> One tokenizer turns text into tokens (words, strings, `&`, `/`, `,`, `=`, subscripts)
-!> with their lines; from them deck_split makes groups (`&name ... /`) of single
-!> assignments `name[(index)] = value-text` (a syntax error comes back with its line
-!> echoed), and check_value says why a value text cannot be assigned to a variable (index
-!> syntax and range, the number of values, r*c repeats included, the form of each constant:
-!> an integer or a real that fits, a logical, a quoted string no longer than the variable;
-!> gfortran's own reader accepts `3` for a string, `1` for a logical and `1e999` for a real,
-!> which then traps). read_value reads a checked text into the component that a table line
-!> (deck_var_t) points at, list-directed as a namelist would, and value_text writes it back.
-!> It knows no table (m_deck_schema) and never stops the run: it returns reasons.
+!> The lexical layer of deck reading (DESIGN section 6), by hand rather than by a namelist
+!> READ so that every complaint can name the group, the variable and the line. One tokenizer
+!> turns text into tokens with their lines; deck_split makes of them groups (`&name ... /`)
+!> of assignments `name[(index)] = value-text` (a syntax error comes back with its line);
+!> assign_value checks a value text for a table line (deck_var_t) — index, count (r*c
+!> repeats included), the form of each constant (gfortran's own reader takes `3` for a
+!> string, `1` for a logical and `1e999` for a real, which then traps) — and reads it into
+!> the component, list-directed as a namelist would; value_text writes it back. It knows no
+!> table and never stops the run: it returns reasons.
 module m_deck_parse
-  use m_kinds, only: wp, name_len
+  use m_kinds, only: wp, name_len, line_len
   use m_config, only: is_set
   use m_deck_text, only: to_lower, int_text, real_text, quoted
   implicit none
   private
   public :: deck_var_t, deck_group_t, deck_assign_t
-  public :: deck_split, first_group, check_value, read_value, value_text
+  public :: deck_split, first_group, assign_value, value_text
 
   !> One table line: group and name; kind 'r' real, 'i' integer, 'l' logical, 'c' string or
   !> 'k' keyword (a string lower-cased when read, one of `choices`, or empty when
   !> `empty_ok`); size (1 for a scalar), the length of a string, a typical value for the
-  !> messages, the meaning; the component (one pointer associated, by type and rank) and,
-  !> for a list written only as far as it is used, the count of its entries.
+  !> messages, the meaning, the values allowed (m_deck_check); the component (one pointer
+  !> associated, by type and rank) and, for a list written only as far as it is used, the
+  !> count of its entries.
   type :: deck_var_t
     character(len=8) :: group = ''
     character(len=24) :: name = ''
     character(len=1) :: kind = 'r'
     integer :: size = 1, clen = 0
     character(len=48) :: typical = ''
+    character(len=64) :: allowed = ''
     character(len=:), allocatable :: choices, meaning
     logical :: empty_ok = .false.
     real(wp), pointer :: r => null(), ra(:) => null()
@@ -271,11 +270,15 @@ contains
     if (index(t, ' ') > 0) r = compact(t(:index(t, ' ') - 1) // t(index(t, ' ') + 1:))
   end function compact
 
-  !> Why `subscript` and `value` cannot be assigned to v, or '' when they can.
-  function check_value(v, subscript, value) result(why)
+  !> Assign `value` to the elements `subscript` of v's component, or say why it cannot be
+  !> ('' when it was). The whole text is checked before anything is read; then it is read
+  !> list-directed, as a namelist would (r*c repeats; null values keep what is there, and
+  !> so do the elements after the last value); keywords are lower-cased.
+  function assign_value(v, subscript, value) result(why)
     type(deck_var_t), intent(in) :: v
     character(len=*), intent(in) :: subscript, value
     character(len=:), allocatable :: why, s, item
+    character(len=line_len) :: msg
     type(token_t), allocatable :: t(:)
     integer :: first, last, count, k, star, repeat, ios
     why = ''
@@ -315,7 +318,22 @@ contains
       end if
     end do
     if (count == 0 .and. len(why) == 0) why = 'no value given'
-  end function check_value
+    if (len(why) > 0) return
+    s = value // ' /'
+    ios = 0
+    msg = ''
+    if (associated(v%r)) read(s, *, iostat=ios, iomsg=msg) v%r
+    if (associated(v%ra)) read(s, *, iostat=ios, iomsg=msg) v%ra(first:last)
+    if (associated(v%i)) read(s, *, iostat=ios, iomsg=msg) v%i
+    if (associated(v%ia)) read(s, *, iostat=ios, iomsg=msg) v%ia(first:last)
+    if (associated(v%l)) read(s, *, iostat=ios, iomsg=msg) v%l
+    if (associated(v%c)) read(s, *, iostat=ios, iomsg=msg) v%c
+    if (associated(v%ca)) read(s, *, iostat=ios, iomsg=msg) v%ca(first:last)
+    if (ios /= 0) why = 'cannot read ' // value // ' (' // trim(msg) // ')'
+    if (v%kind /= 'k') return
+    if (associated(v%c)) v%c = to_lower(v%c)
+    if (associated(v%ca)) v%ca = to_lower(v%ca)
+  end function assign_value
 
   function check_constant(v, c) result(why)
     type(deck_var_t), intent(in) :: v
@@ -324,13 +342,11 @@ contains
     integer :: k
     why = ''
     select case (v%kind)
-    case ('i', 'r')
-      if (v%kind == 'i' .and. .not. integer_form(c)) why = 'expected an integer, got ' // c
-      if (v%kind == 'r' .and. .not. real_form(c)) why = 'expected a real number, got ' // c
-      if (len(why) > 0) return
-      if (v%kind == 'i' .and. .not. integer_fits(c)) why = 'integer too large: ' // c
-      if (v%kind == 'r' .and. .not. real_fits(c)) why = 'real number out of range ' &
-        // '(|x| between 1e-300 and 1e300, or 0): ' // c
+    case ('i')
+      if (.not. integer_form(c)) why = 'expected an integer, got ' // c
+      if (len(why) == 0 .and. .not. integer_fits(c)) why = 'integer too large: ' // c
+    case ('r')
+      why = real_problem(c)
     case ('l')
       if (.not. any(to_lower(c) == [character(len=7) :: '.true.', '.false.', 't', 'f', &
         'true', 'false', '.t.', '.f.'])) why = 'expected .true. or .false., got ' // c
@@ -342,33 +358,6 @@ contains
       end if
     end select
   end function check_constant
-
-  !> Read a value text that check_value has passed into the elements `subscript` of v's
-  !> component (list-directed, as a namelist would: r*c repeats, null values keep what is
-  !> there, and so do the elements after the last value); keywords are lower-cased.
-  subroutine read_value(v, subscript, value, ios, msg)
-    type(deck_var_t), intent(in) :: v
-    character(len=*), intent(in) :: subscript, value
-    integer, intent(out) :: ios
-    character(len=*), intent(inout) :: msg
-    character(len=:), allocatable :: t, why
-    integer :: lo, hi
-    lo = 1
-    hi = v%size
-    if (len(subscript) > 0) call parse_index(subscript, lo, hi, why)
-    t = value // ' /'
-    ios = 0
-    if (associated(v%r)) read(t, *, iostat=ios, iomsg=msg) v%r
-    if (associated(v%ra)) read(t, *, iostat=ios, iomsg=msg) v%ra(lo:hi)
-    if (associated(v%i)) read(t, *, iostat=ios, iomsg=msg) v%i
-    if (associated(v%ia)) read(t, *, iostat=ios, iomsg=msg) v%ia(lo:hi)
-    if (associated(v%l)) read(t, *, iostat=ios, iomsg=msg) v%l
-    if (associated(v%c)) read(t, *, iostat=ios, iomsg=msg) v%c
-    if (associated(v%ca)) read(t, *, iostat=ios, iomsg=msg) v%ca(lo:hi)
-    if (v%kind /= 'k') return
-    if (associated(v%c)) v%c = to_lower(v%c)
-    if (associated(v%ca)) v%ca = to_lower(v%ca)
-  end subroutine read_value
 
   !> v's component as deck text ('' for a real left unset); a list with a count is written
   !> as far as it is used (one entry at least).
@@ -431,40 +420,31 @@ contains
     integer_fits = len(d) < 10 .or. (len(d) == 10 .and. d <= '2147483647')
   end function integer_fits
 
-  !> [sign] mantissa (digits with one '.' at most) [e|d [sign] digits]
-  pure logical function real_form(t)
+  !> Why t is not a real constant of the safe range, or '': [sign] mantissa (digits with one
+  !> '.' at most) [e|d [sign] digits], 0 or 1e-300 < |x| < 1e300 (reading 1e999 would trap
+  !> with -ffpe-trap=overflow).
+  function real_problem(t) result(why)
     character(len=*), intent(in) :: t
-    character(len=:), allocatable :: m
-    integer :: e
+    character(len=:), allocatable :: why, m, d
+    integer :: e, exponent, dot
+    logical :: long   ! an exponent of more than 6 characters
+    why = 'expected a real number, got ' // t
     m = t(merge(2, 1, t(1:1) == '+' .or. t(1:1) == '-'):)
     e = scan(m, 'eEdD')
-    real_form = .true.
-    if (e > 0) real_form = integer_form(m(e + 1:))
-    if (e > 0) m = m(1:e - 1)
-    real_form = real_form .and. verify(m, '0123456789.') == 0 .and. scan(m, '0123456789') > 0 &
-      .and. index(m, '.') == index(m, '.', back=.true.)
-  end function real_form
-
-  !> Whether a number of real_form lies in the safe range: 0, or 1e-300 < |x| < 1e300
-  !> (reading 1e999 would trap with -ffpe-trap=overflow).
-  logical function real_fits(t)
-    character(len=*), intent(in) :: t
-    character(len=:), allocatable :: m, d
-    integer :: e, exponent, dot
-    e = scan(t, 'eEdD')
     exponent = 0
-    m = t
+    long = e > 0 .and. len(m) - e > 6
     if (e > 0) then
-      real_fits = .false.
-      if (len(t) - e > 6) return
-      read(t(e + 1:), *) exponent
-      m = t(1:e - 1)
+      if (.not. integer_form(m(e + 1:))) return
+      if (.not. long) read(m(e + 1:), *) exponent
+      m = m(1:e - 1)
     end if
-    m = m(verify(m, '+-'):)
     dot = index(m // '.', '.')
-    d = m(1:dot - 1) // m(dot + 1:)
+    d = m(1:dot - 1) // m(dot + 1:)   ! the digits
+    if (len(d) == 0 .or. verify(d, '0123456789') > 0) return
+    why = ''
     ! the power of ten of the first non-zero digit
-    real_fits = verify(d, '0') == 0 .or. abs(dot - 1 - verify(d, '0') + exponent) < 300
-  end function real_fits
+    if (verify(d, '0') > 0) long = long .or. abs(dot - 1 - verify(d, '0') + exponent) >= 300
+    if (long) why = 'real number out of range (|x| between 1e-300 and 1e300, or 0): ' // t
+  end function real_problem
 
 end module m_deck_parse

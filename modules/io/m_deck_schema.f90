@@ -24,14 +24,12 @@ module m_deck_schema
   use m_yield, only: strength_model_names
   implicit none
   private
-  public :: deck_table, group_table, group_names, known_groups, var_index, group_of
+  public :: deck_table, group_table, group_names, var_index, group_of
   public :: fail, fail_now, rule, error_line, deck_errors_begin, deck_errors_stop
   public :: deck_error_count, deck_error_mark, deck_has_error
 
   character(len=8), parameter :: group_names(7) = [character(len=8) :: 'run', 'domain', &
     'numerics', 'physics', 'material', 'body', 'output']
-  character(len=*), parameter :: known_groups = &
-    'run, domain, numerics, physics, material, body, output'
   ! the choices that no module maps to constants (they are compared as names)
   character(len=12), parameter :: geometry_names(2) = [character(len=12) :: 'cartesian', &
     'axisymmetric']
@@ -61,8 +59,10 @@ contains
 
   !> THE TABLE: every deck variable, in the order of the resolved deck, bound to c (to m
   !> for &material, b for &body): name, component, typical value, meaning [, choices of a
-  !> keyword; .true.: it may be left empty]. A new variable is a component in m_config, a
-  !> line here and its rules in m_deck_check.
+  !> keyword; .true.: it may be left empty] [, allowed: the values it may take, as the error
+  !> says them: `> a`, `>= a`, `< a`, `in (a, b]` with a bracket for a closed end, or
+  !> `a, b or c`; a reason may follow]. A new variable is a component in m_config and a
+  !> line here; a rule in m_deck_check only when it involves other variables.
   subroutine deck_table(c, m, b, vars)
     type(config_t), target, intent(inout) :: c
     type(material_t), target, intent(inout) :: m
@@ -71,9 +71,10 @@ contains
     type(table_t) :: t
     t%g = 'run'
     call t%add('title', c%title, "'sod shock tube'", 'title of the run (run.log)')
-    call t%add('t_end', c%t_end, '0.2', 'end time (s); or give max_steps')
-    call t%add('max_steps', c%max_steps, '10000', 'most time steps')
-    call t%add('wall_limit', c%wall_limit, '3600.0', 'wall-clock seconds, then checkpoint; 0 off')
+    call t%add('t_end', c%t_end, '0.2', 'end time (s); or give max_steps', allowed='> 0')
+    call t%add('max_steps', c%max_steps, '10000', 'most time steps', allowed='>= 0')
+    call t%add('wall_limit', c%wall_limit, '3600.0', 'wall-clock seconds, then checkpoint; 0 off', &
+      allowed='>= 0 (0 = no limit)')
     call t%add('out_dir', c%out_dir, "'out/sod'", 'output folder')
     call t%add('overwrite', c%overwrite, '.true.', 'replace results already in out_dir')
     call t%add('restart', c%restart, "'out/sod/chk_000100.h5'", 'checkpoint to continue')
@@ -90,7 +91,8 @@ contains
     call t%add('bc_hi', c%bc_hi, "'outflow', 'outflow', 'outflow'", 'condition on the high sides', &
       bc_names)
     call t%add('bc_velocity', c%bc_velocity, '100.0, 0.0, 0.0', "normal velocity, 'velocity' sides")
-    call t%add('bc_rise_time', c%bc_rise_time, '1.0e-6', 'linear ramp of bc_velocity from t = 0')
+    call t%add('bc_rise_time', c%bc_rise_time, '1.0e-6', 'linear ramp of bc_velocity from t = 0', &
+      allowed='>= 0')
     call t%add('base_material', c%base_material, "'air'", "what fills the domain, or 'void'")
     t%g = 'numerics'
     call t%add('scheme', c%scheme, "'eno3'", 'reconstruction (empty: m_numerics_defaults)', &
@@ -103,13 +105,17 @@ contains
       surface_flux_names)
     call t%add('conserve', c%conserve, "'mass_energy'", 'the fix returns this, or cut_cell', &
       conserve_names)
-    call t%add('rk_order', c%rk_order, '3', 'Runge-Kutta order, 1 to 3')
-    call t%add('cfl', c%cfl, '0.5', 'Courant number')
-    call t%add('dt_max', c%dt_max, '1.0e-7', 'cap on dt (s), optional')
+    call t%add('rk_order', c%rk_order, '3', 'Runge-Kutta order, 1 to 3', allowed='1, 2 or 3')
+    call t%add('cfl', c%cfl, '0.5', 'Courant number', allowed='in (0, 1]')
+    call t%add('dt_max', c%dt_max, '1.0e-7', 'cap on dt (s), optional', &
+      allowed='> 0 (leave it out for no cap)')
     call t%add('gfm_probe', c%gfm_probe, "'auto'", 'ghost-fluid probe', probe_names)
-    call t%add('reinit_every', c%reinit_every, '5', 'steps between level-set reinitialisations')
-    call t%add('band', c%band, '6', 'ghost band (cells)')
-    call t%add('contact_kappa', c%contact_kappa, '1.0', 'closer than 2 kappa dx is contact')
+    call t%add('reinit_every', c%reinit_every, '5', 'steps between level-set reinitialisations', &
+      allowed='>= 1 (steps between level-set reinitialisations)')
+    call t%add('band', c%band, '6', 'ghost band (cells)', &
+      allowed='>= 4 (the ghost band is 4 cells deep)')
+    call t%add('contact_kappa', c%contact_kappa, '1.0', 'closer than 2 kappa dx is contact', &
+      allowed='in (0, 3] (bodies closer than 2 kappa dx are in contact)')
     t%g = 'physics'
     call t%add('strength', c%strength, '.true.', 'strength (left out: when a material needs it)')
     call t%add('thermal', c%thermal, '.true.', 'plastic heating, softening (likewise)')
@@ -118,33 +124,40 @@ contains
     t%g = 'material'
     call t%add('name', m%name, "'water'", 'name; a library entry of that name is the start')
     call t%add('eos', m%eos, "'stiffened_gas'", 'equation of state', eos_names, .true.)
-    call t%add('rho0', m%rho0, '1000.0', 'reference density (kg/m3)')
+    call t%add('rho0', m%rho0, '1000.0', 'reference density (kg/m3)', allowed='> 0.0')
     call t%add('p0', m%p0, '1.0e5', 'reference (initial) pressure (Pa)')
-    call t%add('gamma', m%gamma, '1.4', 'ratio of specific heats (gases)')
-    call t%add('p_inf', m%p_inf, '6.0e8', 'stiffening pressure (Pa)')
-    call t%add('c0', m%c0, '3940.0', 'Mie-Gruneisen bulk sound speed (m/s)')
-    call t%add('s', m%s, '1.49', 'Mie-Gruneisen Us-up slope')
-    call t%add('gruneisen', m%gruneisen, '2.0', 'Gruneisen Gamma0')
-    call t%add('cv', m%cv, '717.5', 'specific heat at constant volume (J/kg K)')
-    call t%add('T0', m%T0, '293.15', 'reference temperature (K)')
-    call t%add('bulk_modulus', m%bulk_modulus, '12.5e9', 'polynomial Mie-Gruneisen K (Pa)')
+    call t%add('gamma', m%gamma, '1.4', 'ratio of specific heats (gases)', allowed='> 1.0')
+    call t%add('p_inf', m%p_inf, '6.0e8', 'stiffening pressure (Pa)', allowed='>= 0.0')
+    call t%add('c0', m%c0, '3940.0', 'Mie-Gruneisen bulk sound speed (m/s)', allowed='> 0.0')
+    call t%add('s', m%s, '1.49', 'Mie-Gruneisen Us-up slope', allowed='>= 0.0')
+    call t%add('gruneisen', m%gruneisen, '2.0', 'Gruneisen Gamma0', allowed='>= 0.0')
+    call t%add('cv', m%cv, '717.5', 'specific heat at constant volume (J/kg K)', allowed='> 0.0')
+    call t%add('T0', m%T0, '293.15', 'reference temperature (K)', allowed='> 0.0')
+    call t%add('bulk_modulus', m%bulk_modulus, '12.5e9', 'polynomial Mie-Gruneisen K (Pa)', &
+      allowed='> 0.0')
     call t%add('poly_a', m%poly_a, '22.0e9', 'polynomial Mie-Gruneisen A (Pa)')
     call t%add('poly_b', m%poly_b, '15.0e9', 'polynomial Mie-Gruneisen B (Pa)')
     call t%add('strength_model', m%strength_model, "'johnson_cook'", 'strength (empty: none)', &
       strength_model_names, .true.)
-    call t%add('shear_modulus', m%shear_modulus, '43.33e9', 'shear modulus G (Pa)')
-    call t%add('yield0', m%yield0, '0.4e9', 'initial yield stress; Johnson-Cook A (Pa)')
-    call t%add('hardening_modulus', m%hardening_modulus, '0.1e9', 'H = d sigma_y / d eps_p (Pa)')
-    call t%add('jc_b', m%jc_b, '0.177e9', 'Johnson-Cook B (Pa)')
-    call t%add('jc_n', m%jc_n, '1.0', 'Johnson-Cook n')
-    call t%add('jc_c', m%jc_c, '0.025', 'Johnson-Cook C')
-    call t%add('jc_m', m%jc_m, '1.09', 'Johnson-Cook m')
-    call t%add('t_melt', m%t_melt, '1358.0', 'melt temperature (K): no strength above')
-    call t%add('eps_rate0', m%eps_rate0, '1.0', 'reference plastic strain rate (1/s)')
-    call t%add('vp_chi', m%vp_chi, '1.08', 'power law rate = chi eps_rate^m sigma^n (MPa^-n)')
-    call t%add('vp_m', m%vp_m, '-0.79', 'power law m')
-    call t%add('vp_n', m%vp_n, '1.58', 'power law n')
-    call t%add('taylor_quinney', m%taylor_quinney, '0.9', 'share of plastic work that heats')
+    call t%add('shear_modulus', m%shear_modulus, '43.33e9', 'shear modulus G (Pa)', allowed='> 0.0')
+    call t%add('yield0', m%yield0, '0.4e9', 'initial yield stress; Johnson-Cook A (Pa)', &
+      allowed='>= 0.0')
+    call t%add('hardening_modulus', m%hardening_modulus, '0.1e9', 'H = d sigma_y / d eps_p (Pa)', &
+      allowed='>= 0.0')
+    call t%add('jc_b', m%jc_b, '0.177e9', 'Johnson-Cook B (Pa)', allowed='>= 0.0')
+    call t%add('jc_n', m%jc_n, '1.0', 'Johnson-Cook n', allowed='> 0.0')
+    call t%add('jc_c', m%jc_c, '0.025', 'Johnson-Cook C', allowed='>= 0.0')
+    call t%add('jc_m', m%jc_m, '1.09', 'Johnson-Cook m', allowed='> 0.0')
+    call t%add('t_melt', m%t_melt, '1358.0', 'melt temperature (K): no strength above', &
+      allowed='> 0.0')
+    call t%add('eps_rate0', m%eps_rate0, '1.0', 'reference plastic strain rate (1/s)', &
+      allowed='> 0.0')
+    call t%add('vp_chi', m%vp_chi, '1.08', 'power law rate = chi eps_rate^m sigma^n (MPa^-n)', &
+      allowed='> 0.0')
+    call t%add('vp_m', m%vp_m, '-0.79', 'power law m', allowed='< 1.0')
+    call t%add('vp_n', m%vp_n, '1.58', 'power law n', allowed='> 0.0')
+    call t%add('taylor_quinney', m%taylor_quinney, '0.9', 'share of plastic work that heats', &
+      allowed='in [0, 1] (the share of plastic work that heats)')
     t%g = 'body'
     call t%add('name', b%name, "'projectile'", 'name (empty: body<k>)')
     call t%add('material', b%material, "'copper'", "a material, 'void' or 'rigid'")
@@ -159,13 +172,18 @@ contains
     call t%add('rho', b%rho, '1000.0', "initial density (unset: the material's rho0)")
     call t%add('p', b%p, '1.0e5', "initial pressure (unset: the material's p0)")
     call t%add('T', b%T, '300.0', 'initial temperature instead of p (K)')
-    call t%add('amplitude', b%amplitude, '0.2', 'rho (1 + amplitude sin(2 pi k.x))')
+    call t%add('amplitude', b%amplitude, '0.2', 'rho (1 + amplitude sin(2 pi k.x))', &
+      allowed='in (-1, 1) so that rho (1 + amplitude sin(2 pi k.x)) stays > 0')
     call t%add('wavevector', b%wavevector, '1.0, 0.0, 0.0', 'k of that perturbation (1/m)')
     t%g = 'output'
-    call t%add('plot_dt', c%plot_dt, '1.0e-3', 'time between plots (s); 0: the final one')
-    call t%add('plot_every', c%plot_every, '100', 'steps between plots; 0 off')
-    call t%add('checkpoint_every', c%checkpoint_every, '1000', 'steps; 0: at wall_limit only')
-    call t%add('history_every', c%history_every, '10', 'steps between history.csv lines')
+    call t%add('plot_dt', c%plot_dt, '1.0e-3', 'time between plots (s); 0: the final one', &
+      allowed='>= 0 (0 = no plots by time)')
+    call t%add('plot_every', c%plot_every, '100', 'steps between plots; 0 off', &
+      allowed='>= 0 (0 = no plots by step)')
+    call t%add('checkpoint_every', c%checkpoint_every, '1000', 'steps; 0: at wall_limit only', &
+      allowed='>= 0 (0 = only at wall_limit)')
+    call t%add('history_every', c%history_every, '10', 'steps between history.csv lines', &
+      allowed='>= 1')
     call t%add('fields', c%fields, "'rho', 'u', 'p'", 'plot fields (empty: a standard list)')
     t%v(t%n)%count => c%n_fields
     allocate(vars, source=t%v(1:t%n))
@@ -203,12 +221,12 @@ contains
 
   !> A table line binding name to the component x (a scalar or an array of real, integer,
   !> logical or string); with choices a keyword (lower-cased, one of them; empty too when
-  !> empty_ok).
-  subroutine add(t, name, x, typical, meaning, choices, empty_ok)
+  !> empty_ok); allowed: the values it may take (deck_table).
+  subroutine add(t, name, x, typical, meaning, choices, empty_ok, allowed)
     class(table_t), intent(inout) :: t
     character(len=*), intent(in) :: name, typical, meaning
     class(*), target, intent(inout) :: x(..)
-    character(len=*), intent(in), optional :: choices(:)
+    character(len=*), intent(in), optional :: choices(:), allowed
     logical, intent(in), optional :: empty_ok
     type(deck_var_t) :: v
     v = deck_var_t(group=t%g, name=name, typical=typical, meaning=meaning)
@@ -242,6 +260,7 @@ contains
     if (v%clen > 0) v%kind = merge('k', 'c', present(choices))
     if (present(choices)) v%choices = joined(choices)
     if (present(empty_ok)) v%empty_ok = empty_ok
+    if (present(allowed)) v%allowed = allowed
     t%n = t%n + 1
     t%v(t%n) = v
   end subroutine add
@@ -302,13 +321,9 @@ contains
   logical function deck_has_error(where) result(has)
     character(len=*), intent(in) :: where
     character(len=:), allocatable :: key
-    integer :: blank
-    has = .false.
-    key = error_key(where)
-    blank = index(key, ' ')
-    if (blank == 0) return
+    key = error_key(where)   ! (without a blank: no variable, '|*|' is never there)
     has = index(err_keys, '|' // key // '|') > 0 .or. &
-      index(err_keys, '|' // key(1:blank) // '*|') > 0
+      index(err_keys, '|' // key(1:index(key, ' ')) // '*|') > 0
   end function deck_has_error
 
   !> `ERROR <base> <where>: <why> (typical value <typical>)`, without `<where>` or the

@@ -8,7 +8,7 @@ module m_deck_text
   use m_kinds, only: wp, i8
   implicit none
   private
-  public :: to_lower, edit_distance, int_text, real_text, quoted, shell_quoted
+  public :: to_lower, edit_distance, int_text, real_text, quoted
   public :: in_list, joined, base_name, dir_name, normal_path
 
 contains
@@ -100,34 +100,24 @@ contains
     if (x < 0.0_wp) r = '-' // r
   end function real_text
 
-  !> A string as a deck value: in single quotes, inner quotes doubled (the trailing blanks
-  !> dropped).
-  function quoted(t) result(r)
+  !> A string in single quotes, the trailing blanks dropped: as a deck value (an inner quote
+  !> doubled) or, with shell, as one word of a shell command (an inner quote as '\'').
+  function quoted(t, shell) result(r)
     character(len=*), intent(in) :: t
-    character(len=:), allocatable :: r
-    r = quote_with(trim(t), "''")
-  end function quoted
-
-  !> A string as one word of a shell command: in single quotes, inner quotes as '\''.
-  function shell_quoted(t) result(r)
-    character(len=*), intent(in) :: t
-    character(len=:), allocatable :: r
-    r = quote_with(trim(t), "'\''")
-  end function shell_quoted
-
-  function quote_with(t, quote_as) result(r)
-    character(len=*), intent(in) :: t, quote_as
-    character(len=:), allocatable :: r, rest
+    logical, intent(in), optional :: shell
+    character(len=:), allocatable :: r, rest, as
     integer :: k
+    as = "''"
+    if (present(shell)) as = trim(merge("'\''", "''  ", shell))
     r = "'"
-    rest = t
+    rest = trim(t)
     do while (index(rest, "'") > 0)
       k = index(rest, "'")
-      r = r // rest(1:k - 1) // quote_as
+      r = r // rest(1:k - 1) // as
       rest = rest(k + 1:)
     end do
     r = r // rest // "'"
-  end function quote_with
+  end function quoted
 
   !> Whether word is one of the items of a list written 'a, b, c'.
   elemental logical function in_list(word, list)
@@ -150,15 +140,8 @@ contains
   function base_name(path) result(r)
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: r
-    integer :: k, j
-    r = trim(path)
-    k = len(r)
-    do while (k > 1)   ! trailing slashes
-      if (r(k:k) /= '/') exit
-      k = k - 1
-    end do
-    j = index(r(1:k), '/', back=.true.)
-    r = r(merge(j + 1, 1, j < k):k)
+    r = normal_path(path)
+    if (len(r) > 1) r = r(index(r, '/', back=.true.) + 1:)
   end function base_name
 
   !> The folder part of a path, normalised ('./a//b/c.h5' -> 'a/b', 'c.h5' -> '.').
