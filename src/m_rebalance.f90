@@ -1,21 +1,22 @@
 !> Work-weighted re-partitioning with block migration (DESIGN section 3, manual/scale.md).
-!> Every &run rebalance_every steps the blocks' measured work (m_balance: the seconds of
-!> their stage work since the last check) is gathered into one table by block id, the same
-!> on every rank; its imbalance under the owners in use is logged. When it passes &run
-!> rebalance_threshold, METIS partitions the block graph again with the measured seconds
-!> as weights (m_partition, rank 0, broadcast); when that is predicted to remove enough of
-!> the excess (balance_gain) and leaves no rank empty, every block whose owner changes
-!> moves with its whole state: the conserved variables, level sets and transported
-!> variables of every phase with their halo (q), the step-start copy (q0) and right-hand
-!> side (rhs), the dormant flag, and with a cut-cell phase its content, fractions and face
-!> geometry (m_gfm_cut). The blocks go one per partner per round as point-to-point
-!> messages through m_comm's exchange (MPI or coarray back end); the halo plan is built
-!> again for the new owners, and the per-block arrays of the fix and the accumulators are
-!> sized for the new blocks (the fix's are reset at every step's start). Everything else a
-!> step carries over (clock, fix and cut totals, counters) is not per block. Which rank
-!> holds a block changes nothing in the results: the reductions that steer the solution are
-!> max/min, and the sums of history.csv run over block ids (comm_sum_by_key). The timing
-!> makes the schedule of migrations differ from run to run; the fields do not.
+!> Every &run rebalance_every steps (0: never) the blocks' measured work (m_balance: the
+!> seconds of their stage work since the last check) is gathered into one table by block
+!> id, the same on every rank; its imbalance under the owners in use is logged. When it
+!> passes &run rebalance_threshold (0: never), METIS partitions the block graph again with
+!> the measured seconds as weights (m_partition, rank 0, broadcast); when that is
+!> predicted to remove enough of the excess (balance_gain) and leaves no rank empty, every
+!> block whose owner changes moves with its whole state: the conserved variables, level
+!> sets and transported variables of every phase with their halo (q), the step-start copy
+!> (q0) and right-hand side (rhs), the dormant flag, and with a cut-cell phase its content,
+!> fractions and face geometry (m_gfm_cut). The blocks go one per partner per round as
+!> point-to-point messages through m_comm's exchange (MPI or coarray back end); the halo
+!> plan is built again for the new owners, and the per-block arrays of the fix and the
+!> work accumulators are sized for the new blocks (the fix's are reset at every step's
+!> start). Everything else a step carries over (clock, fix and cut totals, counters) is not
+!> per block. Which rank holds a block changes nothing in the results: the reductions that
+!> steer the solution are max/min or sums in block order, and the sums of history.csv run
+!> over block ids (comm_sum_by_key). The timing makes the schedule of migrations differ
+!> from run to run; the fields do not.
 module m_rebalance
   use m_kinds, only: wp, line_len
   use m_simulation, only: sim_t
@@ -59,7 +60,7 @@ contains
     integer :: b, np, moved, r
     logical :: accept
     character(len=line_len) :: line
-    if (.not. sim%bal%threshold > 0.0_wp .or. sim%bal%every <= 0) return
+    if (sim%bal%every <= 0) return
     np = comm_size()
     if (np == 1 .or. mod(sim%clk%step, sim%bal%every) /= 0) return
     allocate(cost(sim%lay%nblocks), owner(sim%lay%nblocks))
@@ -75,7 +76,7 @@ contains
       ', imbalance ', measured, ' (max over mean of the ranks'' work over ', sim%bal%every, &
       ' steps; ', sum(cost), ' s in all)'
     call log_line(line)
-    if (measured > sim%bal%threshold) then
+    if (sim%bal%threshold > 0.0_wp .and. measured > sim%bal%threshold) then
       call partition_owner(sim%lay, balance_weights(cost, sim%lay%active), owner)
       call balance_relabel(sim%lay%owner, owner, np)
       predicted = balance_imbalance(owner, cost, np)

@@ -65,7 +65,7 @@ contains
       // gr(cfg%wall_limit))
     call rule(len_trim(cfg%out_dir) == 0, 'run out_dir', 'missing required value (it is empty)')
     call rule(cfg%rebalance_threshold < 0.0_wp .or. (cfg%rebalance_threshold > 0.0_wp .and. &
-      cfg%rebalance_threshold < 1.0_wp), 'run rebalance_threshold', 'must be 0 (off) or >= 1' &
+      cfg%rebalance_threshold < 1.0_wp), 'run rebalance_threshold', 'must be 0 (never migrate) or >= 1' &
       // gr(cfg%rebalance_threshold))
     call check_domain()
     ! &numerics (an empty scheme, flux or scalar_flux is left to m_numerics_defaults)
