@@ -37,7 +37,8 @@ CHK_FLAGS := $(STD_FLAGS) -O1 -g -Wall -Wextra -Wimplicit-interface -Werror -fch
 # modules in dependency order (a module only uses those before it)
 MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_signals core/m_config core/m_state \
   strength/m_yield strength/m_plasticity \
-  core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_halo \
+  core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_balance \
+  parallel/m_halo \
   eos/m_eos numerics/m_phases grid/m_boundary numerics/m_reconstruct \
   levelset/m_levelset_derivatives levelset/m_levelset_advect levelset/m_levelset_reinit \
   levelset/m_levelset_geometry levelset/m_levelset_bodies levelset/m_levelset_motion \
@@ -47,7 +48,7 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_signals core/m_conf
   gfm/m_gfm_cut gfm/m_gfm_stage strength/m_material_library numerics/m_numerics_defaults \
   io/m_deck_text io/m_deck_parse io/m_deck_schema io/m_deck_check io/m_deck io/m_history \
   io/m_hdf5_file io/m_hdf5_attr io/m_hdf5_io io/m_xdmf io/m_json
-DRIVER := m_simulation m_output m_run_report m_run_log m_step m_timeloop
+DRIVER := m_simulation m_output m_run_report m_run_log m_step m_rebalance m_timeloop
 SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))
 # comm back end (manual/design.md section 3): COMM=mpi (default) builds bin/sabre and
@@ -106,12 +107,14 @@ CAF_UNIT_BIN := bin/test_halo-caf
 # of every run bit-identical to the MPI build's), one or two per code path, to keep the pass
 # to a few minutes: gas 1D (ideal, stiffened), 2D and 3D on 1-4 images, restart,
 # axisymmetric, moving piston, solids 1D and 2D, rigid level set, gas-water phases, void
-# carving, solid bodies with level sets, colliding bodies on 1-4 images, deck errors.
+# carving, solid bodies with level sets, colliding bodies on 1-4 images, deck errors,
+# blocks migrating between images (taylor_bar_rebalance).
 # Left out: cases that repeat a path (more gas decks, the other restart, 3D Taylor bar) and
 # the command cases that drive tools (their solver runs are MPI-build runs)
 CAF_CASES := sod_eno3_llf_400 water_shock_tube implosion_2d_ranks blast_3d_ranks \
   implosion_2d_restart sedov_axi_small piston_gas copper_impact_250 elastic_wave_2d \
-  cylinder_mach3_coarse gas_water_tube plate_hole taylor_bar_short disc_impact_ranks bad_decks
+  cylinder_mach3_coarse gas_water_tube plate_hole taylor_bar_short disc_impact_ranks bad_decks \
+  taylor_bar_rebalance
 # a 1-image coarray run (a singleton, as regress/run starts np = 1) cannot use Open MPI's
 # UCX one-sided component (MPI_ERR_WIN at start-up): any other (Open MPI picks; pt2pt works)
 CAF_ENV := OMPI_MCA_osc=^ucx

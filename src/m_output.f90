@@ -12,7 +12,7 @@ module m_output
     h5_read_attr, h5_write_field, h5_read_field, h5_write_text, h5_has_attr, h5_is_hdf5, &
     h5_exists
   use m_xdmf, only: xdmf_write
-  use m_comm, only: comm_sum_array, comm_max, comm_sum
+  use m_comm, only: comm_sum_array, comm_sum_by_key, comm_max, comm_sum
   use m_errors, only: stop_collective, log_line
   use m_deck_text, only: base_name, int_text
   use m_levelset_bodies, only: ls_region, ls_material
@@ -384,37 +384,41 @@ contains
   function history_values(sim) result(v)
     type(sim_t), intent(in) :: sim
     real(wp), allocatable :: v(:)
-    real(wp) :: tot(8), pmax, tmax, epmax, cut_tot(8), me(4)
+    real(wp) :: tot(8), pmax, tmax, epmax, cut_tot(8), sums(11)
     integer :: b, l, nb, ph
-    real(wp), allocatable :: body(:, :)
+    real(wp), allocatable :: body(:, :), part(:, :)
     logical :: has_t(sim%ph%nphase)
     do ph = 1, sim%ph%nphase
       has_t(ph) = is_set(sim%cfg%materials(material_index(sim%cfg, sim%ph%material(ph)))%cv)
     end do
-    tot = 0.0_wp
     pmax = -huge(1.0_wp)
     tmax = -huge(1.0_wp)
     epmax = 0.0_wp
+    ! block by block, then over the block ids: the same sums however the blocks are owned
+    allocate(part(11, size(sim%blocks)))
+    part = 0.0_wp
     do b = 1, size(sim%blocks)
+      tot = 0.0_wp
       call block_totals(sim, b, has_t, tot, pmax, tmax, epmax)
+      part(1:7, b) = tot(1:7)
+      if (sim%cut%on) part(8:11, b) = cut_content(sim%cut, b, sim%blocks(b), &
+        sim%ph%lo(sim%cut%p))
     end do
+    sums = comm_sum_by_key(part, [(sim%blocks(b)%id, b = 1, size(sim%blocks))], &
+      sim%lay%nblocks)
+    tot(1:7) = sums(1:7)
     tot(8) = real(sim%diag%fallback_step, wp)
-    call comm_sum_array(tot(1:7))
     tmax = comm_max(tmax)
     if (.not. any(has_t)) tmax = 0.0_wp
     v = [sim%clk%time, sim%clk%dt, tot(1:7), comm_max(pmax), tmax, comm_max(epmax), tot(8), &
       real(sim%diag%first_order_steps, wp), real(comm_sum(sim%diag%cells_low), wp)]
     if (sim%fix%on) v = [v, sim%fix%measure, sum(sim%fix%taken, dim=2), sum(sim%fix%content, dim=2)]
     if (sim%cut%on) then
-      cut_tot = 0.0_wp
-      do b = 1, size(sim%blocks)
-        me = cut_content(sim%cut, b, sim%blocks(b), sim%ph%lo(sim%cut%p))
-        cut_tot(1:3) = cut_tot(1:3) + me(1:3)
-        cut_tot(8) = cut_tot(8) + me(4)
-      end do
       cut_tot(4:5) = sim%cut%crossed
       cut_tot(6:7) = sim%cut%stranded
-      call comm_sum_array(cut_tot)
+      call comm_sum_array(cut_tot(4:7))
+      cut_tot(1:3) = sums(8:10)
+      cut_tot(8) = sums(11)
       v = [v, cut_tot]
     end if
     nb = count(sim%ls%kind == ls_material)
@@ -518,7 +522,7 @@ contains
     integer, allocatable :: sel(:)
     logical, allocatable :: isreal(:)
     real(wp), allocatable :: least(:)
-    real(wp) :: h, f
+    real(wp) :: h, f, part(2, size(sim%blocks))
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
     iv = sim%ph%ils + l
     o = sim%ph%lo(sim%ls%phase(l)) - 1
@@ -526,6 +530,7 @@ contains
     lo = huge(1.0_wp)
     hi = -huge(1.0_wp)
     do b = 1, size(sim%blocks)
+      m(1:2) = 0.0_wp
       n = sim%blocks(b)%n
       if (allocated(sel)) deallocate(sel, isreal, least)
       allocate(sel(n(1)), isreal(n(1)), least(n(1)))
@@ -563,8 +568,11 @@ contains
           end do
         end do
       end associate
+      part(:, b) = m(1:2)
     end do
-    call comm_sum_array(m(1:2))
+    ! over the block ids: the same sums however the blocks are owned
+    m(1:2) = comm_sum_by_key(part, [(sim%blocks(b)%id, b = 1, size(sim%blocks))], &
+      sim%lay%nblocks)
     do d = 1, 3
       m(1 + 2 * d) = -comm_max(-lo(d))
       m(2 + 2 * d) = comm_max(hi(d))

@@ -169,6 +169,16 @@ contains
     write(line, '(a,f10.3,a,f10.3,a)') 'balance: work per rank (fluxes, ghost fill, ' // &
       'reinitialisation, dt) min ', f%work_min, ' s, max ', f%work_max, ' s'
     call log_line(line)
+    if (s%bal%nchecks > 0) then
+      associate (n => s%bal%nchecks, nm => s%bal%nmoves)
+        write(line, '(a,i0,a,f7.3,a,f7.3,a,f7.3,a,i0,a,i0,a,f8.3,a)') 'balance: ', n, &
+          ' checks, imbalance max ', maxval(s%bal%checks(2, 1:n)), ', mean ', &
+          sum(s%bal%checks(2, 1:n)) / n, ', last ', s%bal%checks(2, n), '; ', nm, &
+          ' migrations (', nint(sum(s%bal%moves(2, 1:nm))), ' blocks, ', &
+          sum(s%bal%moves(5, 1:nm)), ' s)'
+      end associate
+      call log_line(line)
+    end if
     write(line, '(a,f10.1,a,f10.1,a,f8.1,a)') 'memory: peak resident ', f%peak / 1024**2, &
       ' MB over all ranks (', f%base / 1024**2, ' MB before the grid), ', f%per_cell, &
       ' bytes per cell above the baseline'

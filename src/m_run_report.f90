@@ -328,6 +328,7 @@ contains
     call json_put(js, 'work_min_seconds', f%work_min)
     call json_put(js, 'work_max_seconds', f%work_max)
     call json_close(js)
+    call balance_json(js)
     call json_object(js, 'cost')
     call json_put(js, 'cell_steps', f%cell_steps)
     call json_put(js, 'cell_steps_per_second_per_rank', &
@@ -356,6 +357,35 @@ contains
     if (.not. ok) call log_line('run.json: cannot write ' // trim(path))
 
   contains
+
+    !> the load balance (m_rebalance): the setting, the imbalance at each check and each
+    !> migration (step, blocks moved, imbalance measured before and predicted after, seconds)
+    subroutine balance_json(jj)
+      type(json_t), intent(inout) :: jj
+      integer :: n, nm
+      n = s%bal%nchecks
+      nm = s%bal%nmoves
+      call json_object(jj, 'balance')
+      call json_put(jj, 'threshold', s%bal%threshold)
+      call json_put(jj, 'every', s%bal%every)
+      call json_put(jj, 'checks', n)
+      if (n > 0) then
+        call json_put(jj, 'imbalance_max', maxval(s%bal%checks(2, 1:n)))
+        call json_put(jj, 'imbalance_mean', sum(s%bal%checks(2, 1:n)) / n)
+        call json_put(jj, 'imbalance_last', s%bal%checks(2, n))
+        call json_put_array(jj, 'check_steps', nint(s%bal%checks(1, 1:n)))
+        call json_put_array(jj, 'imbalance', s%bal%checks(2, 1:n))
+      end if
+      call json_put(jj, 'migrations', nm)
+      if (nm > 0) then
+        call json_put_array(jj, 'migration_steps', nint(s%bal%moves(1, 1:nm)))
+        call json_put_array(jj, 'migration_blocks', nint(s%bal%moves(2, 1:nm)))
+        call json_put_array(jj, 'migration_before', s%bal%moves(3, 1:nm))
+        call json_put_array(jj, 'migration_predicted', s%bal%moves(4, 1:nm))
+        call json_put_array(jj, 'migration_seconds', s%bal%moves(5, 1:nm))
+      end if
+      call json_close(jj)
+    end subroutine balance_json
 
     subroutine effect(jj, key, on, why)
       type(json_t), intent(inout) :: jj

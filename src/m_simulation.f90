@@ -1,7 +1,8 @@
 !> The simulation in typed parts (sim_t): the resolved deck, the block layout, this rank's
 !> blocks, the halo plan and boundary conditions, the clock and output schedule, the phases,
 !> the scheme choices, the level-set bodies, the ghost-fluid and conservation-fix states,
-!> the step's counters, the work space and the memory estimate. sim_setup turns a deck into a
+!> the step's counters, the work space, the memory estimate and the blocks' measured work
+!> (m_balance; m_rebalance moves blocks between ranks when it drifts). sim_setup turns a deck into a
 !> ready-to-run simulation: layout, rigid-obstacle blocks, the memory estimate (a deck that
 !> does not fit the node is refused before anything is allocated), METIS partition,
 !> allocation and the initial state painted from the bodies (or read from a checkpoint by
@@ -13,6 +14,7 @@ module m_simulation
   use m_blocks, only: block_t, blocks_allocate
   use m_halo, only: halo_plan_t, halo_plan_build
   use m_partition, only: partition_blocks
+  use m_balance, only: balance_t, balance_start
   use m_boundary, only: bc_kind_t, bc_from_name
   use m_eos, only: eos_t, eos_from_material, eos_energy, eos_prepare
   use m_euler, only: euler_work_t, euler_work_init, numerics_t, euler_max_rate
@@ -89,6 +91,7 @@ module m_simulation
     type(work_t) :: wk
     type(timers_t) :: timers
     type(memory_t) :: mem
+    type(balance_t) :: bal             !< the blocks' measured work, checks, migrations
   end type sim_t
 
 contains
@@ -141,6 +144,9 @@ contains
     call partition_blocks(sim%lay, work)
     call blocks_allocate(sim%lay, comm_rank(), sim%ph%nvar, sim%blocks)
     call halo_plan_build(sim%lay, sim%blocks, sim%plan)
+    sim%bal%threshold = cfg%rebalance_threshold
+    sim%bal%every = cfg%rebalance_every
+    call balance_start(sim%bal, size(sim%blocks))
     call shape_work(sim, sim%lay)
     ! every block is awake without level sets
     allocate(sim%gf%dormant(size(sim%blocks)))

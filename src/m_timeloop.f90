@@ -1,8 +1,9 @@
 !> The time loop (DESIGN section 5): the step size (CFL, as a max of signal rates over the
 !> ranks), the step (m_step) with the step fallback when it leaves a cell inadmissible
 !> (m_fallback), the level sets' reinitialisation (m_levelset_reinit) and the conservation
-!> fix (m_gfm_conserve), then history, plot files, checkpoints, the progress line and the
-!> stop at the wall-clock limit or a batch queue's signal.
+!> fix (m_gfm_conserve), then history, plot files, checkpoints, the load balance check
+!> (m_rebalance), the progress line and the stop at the wall-clock limit or a batch queue's
+!> signal.
 module m_timeloop
   use m_kinds, only: wp, i8, line_len
   use m_simulation, only: sim_t, sim_rate
@@ -21,6 +22,7 @@ module m_timeloop
   use m_signals, only: signal_caught, signal_name
   use m_timers, only: timer_start, timer_stop
   use m_run_report, only: progress_t, progress_start, progress_report
+  use m_rebalance, only: rebalance_check
   implicit none
   private
   public :: run_time_loop
@@ -96,6 +98,8 @@ contains
         b = 1, size(sim%blocks))])
       worst_step = max(worst_step, comm_wtime() - t0)
       call output_due()
+      ! blocks to other ranks when the work has drifted (results unchanged: m_rebalance)
+      call rebalance_check(sim)
       call progress_report(sim, progress, t_end, .false.)
       ! a run at its end has nothing to continue: it ends as a complete run
       if (at_end()) cycle

@@ -49,6 +49,8 @@ module m_config
     real(wp) :: wall_limit = 0.0_wp
     character(len=path_len) :: out_dir = 'out', restart = ''
     logical :: overwrite = .false.
+    real(wp) :: rebalance_threshold = 1.1_wp   ! max over mean of the ranks' work; 0: never
+    integer :: rebalance_every = 100
     ! &domain
     integer :: ndim = 0, cells(3) = 1, block(3) = 1
     character(len=name_len) :: geometry = 'cartesian', base_material = ''

@@ -20,7 +20,8 @@ module m_comm
   implicit none
   private
   public :: comm_init, comm_finalize, comm_rank, comm_size, comm_is_root, comm_barrier
-  public :: comm_min, comm_max, comm_sum, comm_sum_array, comm_any, comm_minloc_rank
+  public :: comm_min, comm_max, comm_sum, comm_sum_array, comm_sum_by_key, comm_any
+  public :: comm_minloc_rank
   public :: comm_bcast, comm_abort, comm_exit, comm_wtime, comm_world_handles, comm_node_ranks
   public :: comm_backend_name
   public :: comm_exchange_t, exchange_setup, exchange_start, exchange_wait
@@ -135,6 +136,30 @@ contains
     real(wp), intent(inout) :: x(:)
     call backend_sum_real(x)
   end subroutine comm_sum_array
+
+  !> The sum over keys 1..nkey, in key order, of the columns part(:, m) with key(m) = that
+  !> key, each key held by one column on one rank (a block's partial sums, key = its id):
+  !> the same bits however the keys are spread over the ranks, since each entry of the
+  !> rank sum has one non-zero term. A sum that must not depend on the partition (history,
+  !> which a re-partitioned run keeps byte for byte) goes through here.
+  function comm_sum_by_key(part, key, nkey) result(total)
+    real(wp), intent(in) :: part(:, :)
+    integer, intent(in) :: key(:), nkey
+    real(wp) :: total(size(part, 1))
+    real(wp), allocatable :: flat(:)
+    integer :: m, nv, k
+    nv = size(part, 1)
+    allocate(flat(nv * nkey))
+    flat = 0.0_wp
+    do m = 1, size(part, 2)
+      flat(nv * (key(m) - 1) + 1:nv * key(m)) = part(:, m)
+    end do
+    call backend_sum_real(flat)
+    total = 0.0_wp
+    do k = 1, nkey
+      total = total + flat(nv * (k - 1) + 1:nv * k)
+    end do
+  end function comm_sum_by_key
 
   logical function comm_any(x) result(r)
     logical, intent(in) :: x

@@ -1,7 +1,9 @@
 !> Distribution of blocks over ranks (DESIGN section 3): METIS_PartGraphKway on the graph of
 !> active blocks, edges between face neighbours weighted by the face area in cells, vertex
 !> weights = work of the block. Rank 0 partitions and broadcasts the owner of every block,
-!> so every rank holds the same map. Knows nothing of physics.
+!> so every rank holds the same map. The first partition (partition_blocks) is made from an
+!> estimate of the work; a re-partition (partition_owner, m_rebalance) from the work the
+!> blocks were measured to do. Knows nothing of physics.
 module m_partition
   use, intrinsic :: iso_c_binding, only: c_int32_t, c_ptr, c_null_ptr, c_int
   use m_kinds, only: wp
@@ -10,7 +12,7 @@ module m_partition
   use m_errors, only: stop_collective
   implicit none
   private
-  public :: partition_blocks
+  public :: partition_blocks, partition_owner
 
   interface
     integer(c_int) function metis_partgraphkway(nvtxs, ncon, xadj, adjncy, vwgt, vsize, &
@@ -31,18 +33,31 @@ contains
     type(layout_t), intent(inout) :: lay
     integer, intent(in) :: work(:)
     integer :: nparts, nact
+    integer, allocatable :: owner(:)
     nparts = comm_size()
     nact = count(lay%active)
     call stop_collective('ERROR &domain block: ' // trim(itoa(nact)) // ' active blocks for ' &
       // trim(itoa(nparts)) // ' ranks; use smaller blocks or fewer ranks', nact >= nparts)
-    lay%owner = -1
-    if (comm_is_root()) call partition_on_root(lay, work, nparts)
-    call comm_bcast(lay%owner, 0)
+    allocate(owner(lay%nblocks))
+    call partition_owner(lay, work, owner)
+    lay%owner = owner
   end subroutine partition_blocks
 
-  subroutine partition_on_root(lay, work, nparts)
-    type(layout_t), intent(inout) :: lay
+  !> owner(id) of every block for the weights work(id) >= 1 (-1 for inactive blocks), the
+  !> same on every rank (rank 0 partitions, then broadcasts); lay is left as it is.
+  subroutine partition_owner(lay, work, owner)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: work(:)
+    integer, intent(out) :: owner(:)
+    owner = -1
+    if (comm_is_root()) call partition_on_root(lay, work, comm_size(), owner)
+    call comm_bcast(owner, 0)
+  end subroutine partition_owner
+
+  subroutine partition_on_root(lay, work, nparts, owner)
+    type(layout_t), intent(in) :: lay
     integer, intent(in) :: work(:), nparts
+    integer, intent(inout) :: owner(:)
     integer, allocatable :: vertex_of(:), block_of(:)
     integer(c_int32_t), allocatable :: xadj(:), adjncy(:), vwgt(:), adjwgt(:), part(:)
     integer(c_int32_t) :: nv, ncon, np, objval
@@ -57,7 +72,7 @@ contains
       block_of(nv) = id
     end do
     if (nparts == 1) then
-      where (lay%active) lay%owner = 0
+      where (lay%active) owner = 0
       return
     end if
     allocate(xadj(nv + 1), adjncy(6 * nv), adjwgt(6 * nv), vwgt(nv), part(nv))
@@ -94,7 +109,7 @@ contains
       end do
     end if
     do v = 1, nv
-      lay%owner(block_of(v)) = int(part(v))
+      owner(block_of(v)) = int(part(v))
     end do
   end subroutine partition_on_root
 

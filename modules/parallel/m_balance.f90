@@ -1,0 +1,168 @@
+!> The measure of load balance (DESIGN section 3, manual/scale.md). The work of a block is
+!> the wall time it spends in the stage work of the steps since the last check (its fluxes,
+!> sources, ghost-fluid faces, level-set rates, stage update and cell fallback: m_step times
+!> it); the work of a rank is the sum over its blocks, and the imbalance is the largest
+!> rank's work over the mean. This module turns measured block seconds into METIS weights,
+!> computes the imbalance of any owner map for them (the one in use: measured; a proposed
+!> one: predicted), and keeps the record of every check and migration for run.log and
+!> run.json. m_rebalance decides and moves the blocks. Knows nothing of physics.
+module m_balance
+  use m_kinds, only: wp
+  implicit none
+  private
+  public :: balance_t, balance_start, balance_imbalance, balance_weights, balance_relabel, &
+    balance_note, balance_note_move
+
+  !> A migration must remove at least this part of the measured excess imbalance (its
+  !> prediction, on the measured block costs): a re-partition that the blocks' sizes cannot
+  !> make much better is not worth moving the blocks for, and would repeat at every check.
+  real(wp), parameter, public :: balance_gain = 0.25_wp
+
+  !> The scale of METIS weights: the total work is about this many units.
+  real(wp), parameter :: weight_scale = 1.0e6_wp
+
+  type :: balance_t
+    real(wp) :: threshold = 0.0_wp      !< migrate when the imbalance passes it (0: off)
+    integer :: every = 0                !< steps between checks
+    real(wp), allocatable :: cost(:)    !< (local block) seconds of work since the last check
+    !> the record: per check (step, measured imbalance), and per migration (step, blocks
+    !> moved, imbalance measured before, predicted after, seconds); steps and counts are
+    !> held exactly as reals
+    integer :: nchecks = 0, nmoves = 0
+    real(wp), allocatable :: checks(:, :), moves(:, :)
+  end type balance_t
+
+contains
+
+  !> The accumulators for nlocal blocks, zero (at the start, and after every check); the
+  !> record's arrays at the start.
+  subroutine balance_start(bal, nlocal)
+    type(balance_t), intent(inout) :: bal
+    integer, intent(in) :: nlocal
+    if (.not. allocated(bal%checks)) allocate(bal%checks(2, 16), bal%moves(5, 16))
+    if (allocated(bal%cost)) deallocate(bal%cost)
+    allocate(bal%cost(nlocal))
+    bal%cost = 0.0_wp
+  end subroutine balance_start
+
+  !> Largest over mean of the ranks' work for owner(id) in 0..nparts-1 (inactive blocks -1)
+  !> and block work cost(id); 1 when there is no work. The sums run in block order, so every
+  !> rank finds the same value from the same table.
+  real(wp) function balance_imbalance(owner, cost, nparts) result(r)
+    integer, intent(in) :: owner(:), nparts
+    real(wp), intent(in) :: cost(:)
+    real(wp) :: load(0:nparts - 1)
+    integer :: id
+    load = 0.0_wp
+    do id = 1, size(owner)
+      if (owner(id) >= 0) load(owner(id)) = load(owner(id)) + cost(id)
+    end do
+    r = 1.0_wp
+    if (sum(load) > 0.0_wp) r = maxval(load) / (sum(load) / nparts)
+  end function balance_imbalance
+
+  !> METIS vertex weights (>= 1) from the measured block seconds: the total is scaled to
+  !> about weight_scale units, so a dormant block (next to no work) weighs 1.
+  function balance_weights(cost, active) result(w)
+    real(wp), intent(in) :: cost(:)
+    logical, intent(in) :: active(:)
+    integer :: w(size(cost))
+    real(wp) :: total
+    total = sum(cost, mask=active)
+    w = 1
+    if (.not. total > 0.0_wp) return
+    where (active) w = max(1, nint(weight_scale * cost / total))
+  end function balance_weights
+
+  !> The parts of a new partition renamed so that as many blocks as can stay where they
+  !> are (METIS numbers its parts freely: a partition close to the old one may come back
+  !> with the ranks' names swapped). Greedy: the parts in decreasing size, each to the free
+  !> rank that holds most of its blocks now; a part that shares blocks with no free rank
+  !> takes the lowest free rank. owner(id) in 0..nparts-1 or -1 (inactive), in place.
+  subroutine balance_relabel(old, owner, nparts)
+    integer, intent(in) :: old(:), nparts
+    integer, intent(inout) :: owner(:)
+    integer :: first(0:nparts), name(0:nparts - 1), shared(0:nparts - 1), fill(0:nparts - 1)
+    integer :: by_part(size(owner))
+    logical :: taken(0:nparts - 1), done(0:nparts - 1)
+    integer :: k, p, r, id, m
+    ! the blocks of each new part together: by_part(first(p) + 1:first(p + 1))
+    first = 0
+    do id = 1, size(owner)
+      if (owner(id) >= 0) first(owner(id) + 1) = first(owner(id) + 1) + 1
+    end do
+    do p = 1, nparts
+      first(p) = first(p) + first(p - 1)
+    end do
+    fill = first(0:nparts - 1)
+    do id = 1, size(owner)
+      if (owner(id) < 0) cycle
+      fill(owner(id)) = fill(owner(id)) + 1
+      by_part(fill(owner(id))) = id
+    end do
+    taken = .false.
+    done = .false.
+    name = -1
+    shared = 0
+    do k = 0, nparts - 1
+      p = maxloc(first(1:nparts) - first(0:nparts - 1), dim=1, mask=.not. done) - 1
+      done(p) = .true.
+      do m = first(p) + 1, first(p + 1)
+        r = old(by_part(m))
+        if (r >= 0) shared(r) = shared(r) + 1
+      end do
+      r = maxloc(shared, dim=1, mask=.not. taken) - 1
+      if (shared(r) > 0) then
+        name(p) = r
+        taken(r) = .true.
+      end if
+      do m = first(p) + 1, first(p + 1)
+        if (old(by_part(m)) >= 0) shared(old(by_part(m))) = 0
+      end do
+    end do
+    do p = 0, nparts - 1
+      if (name(p) >= 0) cycle
+      r = findloc(taken, .false., dim=1) - 1
+      name(p) = r
+      taken(r) = .true.
+    end do
+    do id = 1, size(owner)
+      if (owner(id) >= 0) owner(id) = name(owner(id))
+    end do
+  end subroutine balance_relabel
+
+  !> Record a check: its step and the measured imbalance.
+  subroutine balance_note(bal, step, imbalance)
+    type(balance_t), intent(inout) :: bal
+    integer, intent(in) :: step
+    real(wp), intent(in) :: imbalance
+    bal%nchecks = bal%nchecks + 1
+    call grow(bal%checks, bal%nchecks, [real(step, wp), imbalance])
+  end subroutine balance_note
+
+  !> Record a migration: its step, the blocks moved, the imbalance measured before and
+  !> predicted after, and the seconds it took.
+  subroutine balance_note_move(bal, step, before, after, blocks, seconds)
+    type(balance_t), intent(inout) :: bal
+    integer, intent(in) :: step, blocks
+    real(wp), intent(in) :: before, after, seconds
+    bal%nmoves = bal%nmoves + 1
+    call grow(bal%moves, bal%nmoves, [real(step, wp), real(blocks, wp), before, after, &
+      seconds])
+  end subroutine balance_note_move
+
+  !> a(:, n) = x, a grown (doubled) when it is full
+  subroutine grow(a, n, x)
+    real(wp), allocatable, intent(inout) :: a(:, :)
+    integer, intent(in) :: n
+    real(wp), intent(in) :: x(:)
+    real(wp), allocatable :: t(:, :)
+    if (n > size(a, 2)) then
+      allocate(t(size(a, 1), 2 * size(a, 2)))
+      t(:, 1:size(a, 2)) = a
+      call move_alloc(t, a)
+    end if
+    a(:, n) = x
+  end subroutine grow
+
+end module m_balance
