@@ -1,22 +1,21 @@
-!> Work-weighted re-partitioning with block migration (DESIGN section 3, manual/scale.md).
-!> Every &run rebalance_every steps (0: never) the blocks' measured work (m_balance: the
-!> seconds of their stage work since the last check) is gathered into one table by block
-!> id, the same on every rank; its imbalance under the owners in use is logged. When it
-!> passes &run rebalance_threshold (0: never), METIS partitions the block graph again with
-!> the measured seconds as weights (m_partition, rank 0, broadcast); when that is
-!> predicted to remove enough of the excess (balance_gain) and leaves no rank empty, every
-!> block whose owner changes moves with its whole state: the conserved variables, level
-!> sets and transported variables of every phase with their halo (q), the step-start copy
-!> (q0) and right-hand side (rhs), the dormant flag, and with a cut-cell phase its content,
-!> fractions (now and at the last step's end), face geometry and cut-cell flags
-!> (m_gfm_cut). The blocks go one per partner per round as point-to-point messages through m_comm's exchange (MPI or coarray back end); the halo
-!> plan is built again for the new owners, and the per-block arrays of the fix and the
-!> work accumulators are sized for the new blocks (the fix's are reset at every step's
-!> start). Everything else a step carries over (clock, fix and cut totals, counters) is not
-!> per block. Which rank holds a block changes nothing in the results: the reductions that
-!> steer the solution are max/min or sums in block order, and the sums of history.csv run
-!> over block ids (comm_sum_by_key). The timing makes the schedule of migrations differ
-!> from run to run; the fields do not.
+!> Work-weighted re-partitioning with block migration (DESIGN section 3, manual/scale.md). Every
+!> &run rebalance_every steps (0: never) the blocks' measured work (m_balance: the seconds of their
+!> stage work since the last check) is gathered into one table by block id, the same on every rank;
+!> its imbalance under the owners in use is logged. When it passes &run rebalance_threshold (0:
+!> never), METIS partitions the block graph again with the measured seconds as weights
+!> (m_partition, rank 0, broadcast); when that is predicted to remove enough of the excess
+!> (balance_gain) and leaves no rank empty, every block whose owner changes moves with its whole
+!> state: the conserved variables, level sets and transported variables of every phase with their
+!> halo (q), the step-start copy (q0) and right-hand side (rhs), the dormant flag, and with a
+!> cut-cell phase its content, fractions (now and at the last step's end), face geometry and
+!> cut-cell flags (m_gfm_cut). The blocks go one per partner per round as point-to-point messages
+!> through m_comm's exchange (MPI or coarray back end); the halo plan is built again for the new
+!> owners, and the per-block arrays of the fix and the work accumulators are sized for the new
+!> blocks (the fix's are reset at every step's start). Everything else a step carries over (clock,
+!> fix and cut totals, counters) is not per block. Which rank holds a block changes nothing in the
+!> results: the reductions that steer the solution are max/min or sums in block order, and the sums
+!> of history.csv run over block ids (comm_sum_by_key). The timing makes the schedule of migrations
+!> differ from run to run; the fields do not.
 module m_rebalance
   use m_kinds, only: wp, line_len
   use m_simulation, only: sim_t
