@@ -491,7 +491,7 @@ contains
             ! (nothing moves where the cell and its face neighbours were full and still are)
             if (settled([i, j, k])) cycle
             if (.not. alpha_at([i, j, k]) > 0.0_wp) then
-              if (all(cq(i, j, k, :) == 0.0_wp)) cycle
+              if (.not. maxval(abs(cq(i, j, k, :))) > 0.0_wp) cycle
               best = largest_neighbour(lay, blk%offset, n, e, alpha_e, [i, j, k])
               if (best(1) /= huge(1)) q(i, j, k, lo:lo + nf - 1) = 0.0_wp
               cycle
