@@ -32,6 +32,13 @@ module m_output
 
 contains
 
+  !> Name of the cut-cell phase's content variable m in a checkpoint: /cut/c<m>.
+  pure function content_names(m) result(name)
+    integer, intent(in) :: m
+    character(len=name_len) :: name
+    write(name, '(a,i0)') '/cut/c', m
+  end function content_names
+
   !> Name of state variable m in a checkpoint: /state/q<m> (flow variables, then level sets).
   pure function state_names(m) result(name)
     integer, intent(in) :: m
@@ -228,6 +235,19 @@ contains
       end do
       call h5_write_field(f, trim(state_names(m)), sim%lay, ids, data)
     end do
+    if (sim%cut%on) then
+      ! the cut-cell phase's content (its states do not give it back: a cut cell's state
+      ! has the density of the material beside it) and its budget so far (m_gfm_cut)
+      call h5_write_attr(f, 'cut_stranded', sim%cut%stranded)
+      call h5_write_attr(f, 'cut_crossed', sim%cut%crossed)
+      do m = 1, sim%ph%nflow
+        do b = 1, size(sim%blocks)
+          n = sim%blocks(b)%n
+          data(1:n(1), 1:n(2), 1:n(3), b) = sim%cut%c0(1:n(1), 1:n(2), 1:n(3), m, b)
+        end do
+        call h5_write_field(f, trim(content_names(m)), sim%lay, ids, data)
+      end do
+    end if
     call h5_write_text(f, '/deck', deck_text)
     call h5_close(f)
     call log_line('checkpoint ' // trim(step_file_name(sim, 'chk', sim%clk%step, '.h5')))
@@ -348,6 +368,24 @@ contains
         sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m) = data(1:n(1), 1:n(2), 1:n(3), b)
       end do
     end do
+    sim%cut%restored = .false.
+    if (sim%cut%on) then
+      if (h5_exists(f, trim(content_names(1)))) then
+        call h5_read_attr(f, 'cut_stranded', sim%cut%stranded)
+        call h5_read_attr(f, 'cut_crossed', sim%cut%crossed)
+        do m = 1, sim%ph%nflow
+          call h5_read_field(f, trim(content_names(m)), sim%lay, ids, data)
+          do b = 1, size(sim%blocks)
+            n = sim%blocks(b)%n
+            sim%cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = data(1:n(1), 1:n(2), 1:n(3), b)
+          end do
+        end do
+        sim%cut%restored = .true.
+      else
+        call log_line('restart: ' // trim(path) // ' holds no cut-cell content (written ' // &
+          'without conserve = ''cut_cell''): it is taken from the states')
+      end if
+    end if
     call h5_close(f)
     sim%clk%restart_step = sim%clk%step
   end subroutine output_restart

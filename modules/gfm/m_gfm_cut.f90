@@ -49,6 +49,7 @@ module m_gfm_cut
   type :: cut_t
     logical :: on = .false.
     logical :: started = .false.                  !< c0 holds the content (the first step on)
+    logical :: restored = .false.                 !< c0 was read from a checkpoint
     character(len=256) :: reason = ''
     integer :: p = 0                              !< the cut phase
     real(wp) :: small = 0.5_wp                    !< cells below this fraction are mixed

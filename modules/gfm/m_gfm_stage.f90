@@ -245,13 +245,16 @@ contains
           allocate(cut%ext_n(b)%a, mold=cut%ext(b)%a)
           cut%ext_n(b)%a = 0.0_wp
         end if
-        if (.not. cut%started) then
+        if (.not. cut%started .and. .not. cut%restored) then
           ! the run's start: a wet cell whose centre lies outside holds no state of the
           ! phase yet; its ghost state (the phase's state beside it) makes its content
           call gfm_fill(blk%lay, gf%scn, ls, blk%q, gf%work, gf%counts, gf%dormant(b))
           do m = 1, ph%nflow
             cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = f%alpha * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
           end do
+        end if
+        if (.not. cut%started) then
+          ! (a restart's content came from the checkpoint; the fractions from the level set)
           cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
           cut%ext_n(b)%a = cut%ext(b)%a
         end if
