@@ -1,20 +1,16 @@
-!> What a run writes and reads back (DESIGN section 7): plot files (fields + XDMF),
-!> checkpoints and restarts, and the diagnostics of a history row. The HDF5 calls live in
-!> m_hdf5_io; here the solver state becomes named fields and back.
+!> What a run writes (DESIGN section 7): plot files (fields + XDMF) and the diagnostics of a
+!> history row. The HDF5 calls live in m_hdf5_io; here the solver state becomes named
+!> fields. Checkpoints and restarts are m_checkpoint's.
 module m_output
-  use m_kinds, only: wp, i8, name_len, path_len
+  use m_kinds, only: wp, name_len, path_len
   use m_simulation, only: sim_t
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, i_sxx, i_syy, i_szz, i_sxy, i_syz, &
     i_sxz, i_epsp
   use m_elastoplastic, only: primitive_row, solid_temperature
   use m_eos, only: eos_temperature, eos_sound_speed2
-  use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
-    h5_read_attr, h5_write_field, h5_read_field, h5_write_text, h5_has_attr, h5_is_hdf5, &
-    h5_exists
+  use m_hdf5_io, only: h5_file_t, h5_create, h5_close, h5_write_attr, h5_write_field
   use m_xdmf, only: xdmf_write
   use m_comm, only: comm_sum_array, comm_sum_by_key, comm_max, comm_sum
-  use m_errors, only: stop_collective, log_line
-  use m_deck_text, only: base_name, int_text
   use m_levelset_bodies, only: ls_region, ls_material
   use m_gfm_cut, only: cut_content
   use m_scene, only: cell_centre
@@ -22,29 +18,12 @@ module m_output
   use m_config, only: is_set, material_index
   implicit none
   private
-  public :: output_plot, output_checkpoint, output_restart, output_restart_check
+  public :: output_plot
   public :: history_columns, history_values
 
-  !> the version of the checkpoint layout this code writes and reads; a checkpoint without
-  !> the attribute was written before it existed (version 0, read the same way)
-  integer, parameter :: checkpoint_version = 1
   public :: step_file_name
 
 contains
-
-  !> Name of the cut-cell phase's content variable m in a checkpoint: /cut/c<m>.
-  pure function content_names(m) result(name)
-    integer, intent(in) :: m
-    character(len=name_len) :: name
-    write(name, '(a,i0)') '/cut/c', m
-  end function content_names
-
-  !> Name of state variable m in a checkpoint: /state/q<m> (flow variables, then level sets).
-  pure function state_names(m) result(name)
-    integer, intent(in) :: m
-    character(len=name_len) :: name
-    write(name, '(a,i0)') '/state/q', m
-  end function state_names
 
   function step_file_name(sim, prefix, step, ext) result(path)
     type(sim_t), intent(in) :: sim
@@ -197,198 +176,6 @@ contains
         + 2.0_wp * (qrow(:, i_sxy)**2 + qrow(:, i_syz)**2 + qrow(:, i_sxz)**2))) / rho
     end if
   end function solid_field
-
-  !> chk_NNNNNN.h5: the conserved state and the clock, enough for a bit-identical restart.
-  subroutine output_checkpoint(sim, deck_text)
-    type(sim_t), intent(inout) :: sim
-    character(len=*), intent(in) :: deck_text
-    type(h5_file_t) :: f
-    real(wp), allocatable :: data(:, :, :, :)
-    integer, allocatable :: ids(:)
-    integer :: m, b, n(3)
-    n = sim%lay%nmax
-    allocate(data(n(1), n(2), n(3), size(sim%blocks)))
-    data = 0.0_wp
-    ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
-    call h5_create(f, step_file_name(sim, 'chk', sim%clk%step, '.h5'), sim%lay)
-    call h5_write_attr(f, 'time', sim%clk%time)
-    call h5_write_attr(f, 'step', sim%clk%step)
-    call h5_write_attr(f, 'plot_count', sim%clk%plot_count)
-    call h5_write_attr(f, 'last_plot_step', sim%clk%last_plot_step)
-    call h5_write_attr(f, 'next_plot_time', sim%clk%next_plot_time)
-    call h5_write_attr(f, 'dt_first', sim%clk%dt_first)
-    call h5_write_attr(f, 'nvar', sim%ph%nvar)
-    call h5_write_attr(f, 'checkpoint_version', checkpoint_version)
-    if (sim%fix%on) then
-      ! the conservation fix's state (m_timeloop::conserve_step)
-      call h5_write_attr(f, 'fix_content', reshape(sim%fix%content, [size(sim%fix%content)]))
-      call h5_write_attr(f, 'fix_taken', reshape(sim%fix%taken, [size(sim%fix%taken)]))
-      call h5_write_attr(f, 'fix_content0', sim%fix%content0)
-      call h5_write_attr(f, 'fix_clamped', sim%fix%clamped)
-      call h5_write_attr(f, 'fix_open_cells', sim%fix%open_cells)
-      call h5_write_attr(f, 'fix_crossing', sim%fix%crossing)
-    end if
-    do m = 1, sim%ph%nvar
-      do b = 1, size(sim%blocks)
-        n = sim%blocks(b)%n
-        data(1:n(1), 1:n(2), 1:n(3), b) = sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m)
-      end do
-      call h5_write_field(f, trim(state_names(m)), sim%lay, ids, data)
-    end do
-    if (sim%cut%on) then
-      ! the cut-cell phase's content (its states do not give it back: a cut cell's state
-      ! has the density of the material beside it) and its budget so far (m_gfm_cut)
-      call h5_write_attr(f, 'cut_stranded', sim%cut%stranded)
-      call h5_write_attr(f, 'cut_crossed', sim%cut%crossed)
-      do m = 1, sim%ph%nflow
-        do b = 1, size(sim%blocks)
-          n = sim%blocks(b)%n
-          data(1:n(1), 1:n(2), 1:n(3), b) = sim%cut%c0(1:n(1), 1:n(2), 1:n(3), m, b)
-        end do
-        call h5_write_field(f, trim(content_names(m)), sim%lay, ids, data)
-      end do
-    end if
-    call h5_write_text(f, '/deck', deck_text)
-    call h5_close(f)
-    call log_line('checkpoint ' // trim(step_file_name(sim, 'chk', sim%clk%step, '.h5')))
-  end subroutine output_checkpoint
-
-  !> Refuse, on every rank and before anything is written, a restart file that is missing,
-  !> not HDF5, not a SABRE checkpoint (a plot file, another code's file), of a later
-  !> checkpoint version, or for another grid or state than the deck's.
-  subroutine output_restart_check(sim, path)
-    type(sim_t), intent(in) :: sim
-    character(len=*), intent(in) :: path
-    character(len=*), parameter :: needed(5) = [character(len=10) :: 'cells', 'nvar', 'step', &
-      'time', 'dt_first']
-    type(h5_file_t) :: f
-    character(len=:), allocatable :: why, name
-    integer :: cells(3), nvar, version, k
-    real(wp) :: lo(3), hi(3)
-    logical :: exists
-    name = "'" // trim(path) // "'"
-    why = ''
-    inquire(file=trim(path), exist=exists)
-    if (.not. exists) then
-      why = 'no such checkpoint file ' // name
-    else if (.not. h5_is_hdf5(path)) then
-      why = name // ' is not a SABRE checkpoint (not an HDF5 file; restart names a ' // &
-        'chk_NNNNNN.h5 file)'
-    else
-      call h5_open_read(f, path)
-      do k = 1, size(needed)
-        if (len(why) > 0) exit
-        if (.not. h5_has_attr(f, trim(needed(k)))) why = name // &
-          ' is not a SABRE checkpoint (no attribute ' // trim(needed(k)) // '; a plot file?)'
-      end do
-      if (len(why) == 0) then
-        if (.not. h5_exists(f, '/state')) why = name // &
-          ' is not a SABRE checkpoint (no /state group)'
-      end if
-      if (len(why) == 0) then
-        version = 0
-        if (h5_has_attr(f, 'checkpoint_version')) &
-          call h5_read_attr(f, 'checkpoint_version', version)
-        call h5_read_attr(f, 'cells', cells)
-        call h5_read_attr(f, 'nvar', nvar)
-        call h5_read_attr(f, 'lo', lo)
-        call h5_read_attr(f, 'hi', hi)
-        if (version > checkpoint_version) then
-          why = name // ' is a version ' // int_text(version) // ' checkpoint; this SABRE ' &
-            // 'reads versions up to ' // int_text(checkpoint_version)
-        else if (any(cells /= sim%lay%cells)) then
-          why = name // ' is for another grid: cells ' // dims(cells) // ', the deck has ' &
-            // dims(sim%lay%cells) // ' (restart with the &domain of the run that wrote it)'
-        else if (any(abs(lo - sim%lay%lo) > 1.0e-12_wp * max(abs(lo), abs(hi - lo))) .or. &
-          any(abs(hi - sim%lay%hi) > 1.0e-12_wp * max(abs(hi), abs(hi - lo)))) then
-          why = name // ' is for another domain (lo, hi differ from the deck''s)'
-        else if (nvar /= sim%ph%nvar) then
-          why = name // ' is for another state: ' // int_text(nvar) // ' variables per ' // &
-            'cell, the deck has ' // int_text(sim%ph%nvar) // ' (other materials, bodies or ' // &
-            'effects)'
-        end if
-      end if
-      call h5_close(f)
-    end if
-    call stop_collective('ERROR ' // base_name(sim%cfg%deck_file) // ' &run restart: ' // &
-      why // " (typical value 'out/sod/chk_000100.h5')", len(why) == 0)
-
-  contains
-
-    function dims(n) result(t)
-      integer, intent(in) :: n(3)
-      character(len=:), allocatable :: t
-      t = int_text(n(1)) // ' x ' // int_text(n(2)) // ' x ' // int_text(n(3))
-    end function dims
-
-  end subroutine output_restart_check
-
-  subroutine output_restart(sim, path)
-    type(sim_t), intent(inout) :: sim
-    character(len=*), intent(in) :: path
-    type(h5_file_t) :: f
-    real(wp), allocatable :: data(:, :, :, :)
-    integer, allocatable :: ids(:)
-    integer :: m, b, n(3)
-    real(wp), allocatable :: fix(:)
-    ! that the file is a checkpoint for this grid and state was checked before anything was
-    ! written (output_restart_check)
-    n = sim%lay%nmax
-    allocate(data(n(1), n(2), n(3), size(sim%blocks)))
-    ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
-    call h5_open_read(f, path)
-    call h5_read_attr(f, 'time', sim%clk%time)
-    call h5_read_attr(f, 'step', sim%clk%step)
-    call h5_read_attr(f, 'plot_count', sim%clk%plot_count)
-    call h5_read_attr(f, 'last_plot_step', sim%clk%last_plot_step)
-    call h5_read_attr(f, 'next_plot_time', sim%clk%next_plot_time)
-    call h5_read_attr(f, 'dt_first', sim%clk%dt_first)
-    if (sim%fix%on) then
-      allocate(fix(size(sim%fix%content)))
-      call h5_read_attr(f, 'fix_content', fix)
-      sim%fix%content = reshape(fix, shape(sim%fix%content))
-      call h5_read_attr(f, 'fix_taken', fix)
-      sim%fix%taken = reshape(fix, shape(sim%fix%taken))
-      call h5_read_attr(f, 'fix_content0', sim%fix%content0)
-      call h5_read_attr(f, 'fix_clamped', sim%fix%clamped)
-      call h5_read_attr(f, 'fix_open_cells', sim%fix%open_cells)
-      ! Checkpoints from before the open-side rule lack it: no phase was crossing then.
-      sim%fix%crossing = 0.0_wp
-      if (h5_has_attr(f, 'fix_crossing')) then
-        call h5_read_attr(f, 'fix_crossing', sim%fix%crossing)
-      else
-        call log_line('restart: ' // trim(path) // ' has no fix_crossing (written before ' // &
-          'the open-side rule of the conservation fix): no phase taken as crossing')
-      end if
-    end if
-    do m = 1, sim%ph%nvar
-      call h5_read_field(f, trim(state_names(m)), sim%lay, ids, data)
-      do b = 1, size(sim%blocks)
-        n = sim%blocks(b)%n
-        sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m) = data(1:n(1), 1:n(2), 1:n(3), b)
-      end do
-    end do
-    sim%cut%restored = .false.
-    if (sim%cut%on) then
-      if (h5_exists(f, trim(content_names(1)))) then
-        call h5_read_attr(f, 'cut_stranded', sim%cut%stranded)
-        call h5_read_attr(f, 'cut_crossed', sim%cut%crossed)
-        do m = 1, sim%ph%nflow
-          call h5_read_field(f, trim(content_names(m)), sim%lay, ids, data)
-          do b = 1, size(sim%blocks)
-            n = sim%blocks(b)%n
-            sim%cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = data(1:n(1), 1:n(2), 1:n(3), b)
-          end do
-        end do
-        sim%cut%restored = .true.
-      else
-        call log_line('restart: ' // trim(path) // ' holds no cut-cell content (written ' // &
-          'without conserve = ''cut_cell''): it is taken from the states')
-      end if
-    end if
-    call h5_close(f)
-    sim%clk%restart_step = sim%clk%step
-  end subroutine output_restart
 
   !> Columns of history.csv: totals over the real cells, maxima, fallback counters, and for
   !> each body of the flowing material its mass, volume and bounding box (from its level set).

@@ -10,7 +10,7 @@ module m_step
   use m_kinds, only: wp, i8
   use m_simulation, only: sim_t, sim_block_work
   use m_boundary, only: fill_ghosts, ghosts_all, ghosts_flow, boundary_walls
-  use m_euler, only: rk_stage_update
+  use m_runge_kutta, only: rk_stage_update
   use m_fallback, only: find_trouble
   use m_levelset_motion, only: levelset_rates
   use m_gfm_stage, only: ghost_fluid_fill, phase_rhs, phase_corrections, phase_states, states_end

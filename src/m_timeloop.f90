@@ -13,8 +13,8 @@ module m_timeloop
   use m_levelset_bodies, only: ls_material, ls_void
   use m_levelset_reinit, only: levelset_reinitialise
   use m_gfm_conserve, only: conserve_fix
-  use m_output, only: output_plot, output_checkpoint, history_columns, history_values, &
-    step_file_name
+  use m_output, only: output_plot, history_columns, history_values, step_file_name
+  use m_checkpoint, only: output_checkpoint
   use m_history, only: history_t, history_open, history_write, history_close
   use m_config, only: is_set
   use m_comm, only: comm_max, comm_wtime, comm_bcast, comm_is_root

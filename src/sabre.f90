@@ -14,7 +14,7 @@ program sabre
   use m_hdf5_io, only: h5_init, h5_finalize
   use m_simulation, only: sim_t, sim_setup, sim_paint_initial_state
   use m_gfm_stage, only: phase_states, states_start
-  use m_output, only: output_restart, output_restart_check
+  use m_checkpoint, only: output_restart, output_restart_check
   use m_timeloop, only: run_time_loop
   use m_timers, only: memory_kb
   use m_run_log, only: write_run_header, write_run_footer

@@ -22,7 +22,7 @@ module m_gfm_conserve
   use m_boundary, only: bc_kind_t, bc_outflow
   use m_phases, only: phases_t
   use m_state, only: i_rho, i_mx, i_mz, i_en
-  use m_euler, only: rk_weights
+  use m_runge_kutta, only: rk_weights
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_rigid
   use m_gfm, only: gf_t, gf_fit
   use m_comm, only: comm_sum_array

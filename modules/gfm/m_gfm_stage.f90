@@ -12,7 +12,8 @@ module m_gfm_stage
   use m_boundary, only: bc_kind_t, fill_ghosts, ghosts_flow
   use m_phases, only: phases_t
   use m_config, only: body_t
-  use m_euler, only: numerics_t, euler_work_t, euler_rhs, rk_weights
+  use m_euler, only: numerics_t, euler_work_t, euler_rhs
+  use m_runge_kutta, only: rk_weights
   use m_elastoplastic, only: plastic_correction
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_separate, ls_material
   use m_scene, only: rigid_bodies_move

@@ -1,0 +1,270 @@
+!> The per-cell rules of the cut-cell update (issue 15, manual/theory.md section 7): where a
+!> cell stands (inside the domain, on an outflow side), which neighbour it joins or gives to
+!> (largest_neighbour, group_roots), the density of the full cells beside it (full_density),
+!> and the exchange of content where cells fill or empty between steps (cut_donate). The
+!> stage update that uses them is m_gfm_cut.
+module m_gfm_cut_cells
+  use m_kinds, only: wp
+  use m_layout, only: layout_t, cell_volume
+  use m_blocks, only: block_t
+  use m_phases, only: phases_t
+  use m_state, only: i_rho
+  implicit none
+  private
+  public :: full, full_density, group_roots, on_open, in_domain, largest_neighbour, cut_donate
+
+  !> a cell's fraction from which it counts as full of its phase
+  real(wp), parameter :: full = 1.0_wp - 1.0e-12_wp
+
+contains
+
+  !> The mean density of the full cells (alpha = 1) of the phase other than c within one
+  !> cell of c, else within two (inside the domain and the fractions' reach); 0 when none.
+  !> rho_q: the density (mass content) over the padded block.
+  function full_density(lay, offset, e, alpha_e, rho_q, c) result(rho)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), e(3), c(3)
+    real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
+    real(wp), intent(in) :: rho_q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):)
+    real(wp) :: rho, total
+    integer :: reach, lo(3), hi(3), i, j, k, count
+    rho = 0.0_wp
+    do reach = 1, 2
+      lo = c
+      hi = c
+      lo(1:lay%ndim) = max(c(1:lay%ndim) - reach, lbound(alpha_e) + [0, 0, 0])
+      hi(1:lay%ndim) = min(c(1:lay%ndim) + reach, ubound(alpha_e) + [0, 0, 0])
+      total = 0.0_wp
+      count = 0
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            if (all([i, j, k] == c)) cycle
+            if (.not. alpha_e(i, j, k) >= full) cycle
+            if (.not. in_domain(lay, offset, [i, j, k])) cycle
+            total = total + rho_q(i, j, k)
+            count = count + 1
+          end do
+        end do
+      end do
+      if (count > 0) then
+        rho = total / real(count, wp)
+        return
+      end if
+    end do
+  end function full_density
+
+  !> The root of each cell's mixing group, over the block and two cells into its halo:
+  !> a cell with alpha >= small, or empty (alpha = 0), is its own root; a small cell joins
+  !> its face neighbour of largest fraction (the first in -x, +x, -y, +y, -z, +z of equal
+  !> ones) when that one is not small, else it stays its own root. Cells beyond the domain's
+  !> sides take no part.
+  subroutine group_roots(lay, offset, n, e, alpha_e, small, root)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), n(3), e(3)
+    real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
+    real(wp), intent(in) :: small
+    integer, allocatable, intent(out) :: root(:, :, :, :)
+    integer :: w(3), i, j, k, best(3)
+    w = min(e, 2)
+    ! one more layer than w, so that a neighbour's root can be looked at
+    allocate(root(3, -w(1):n(1)+w(1)+1, -w(2):n(2)+w(2)+1, -w(3):n(3)+w(3)+1))
+    root = 0
+    do k = 1 - w(3), n(3) + w(3)
+      do j = 1 - w(2), n(2) + w(2)
+        do i = 1 - w(1), n(1) + w(1)
+          root(:, i, j, k) = [i, j, k]
+          if (alpha_e(i, j, k) >= small .or. .not. alpha_e(i, j, k) > 0.0_wp) cycle
+          if (.not. in_domain(lay, offset, [i, j, k])) cycle
+          best = largest_neighbour(lay, offset, n, e, alpha_e, [i, j, k])
+          if (best(1) == huge(1)) cycle
+          if (alpha_e(best(1), best(2), best(3)) >= small) root(:, i, j, k) = best
+        end do
+      end do
+    end do
+  end subroutine group_roots
+
+  !> Whether cell c (block coordinates) is a first or last cell along an outflow side.
+  pure logical function on_open(lay, offset, open_side, c) result(yes)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), c(3)
+    logical, intent(in) :: open_side(2, 3)
+    integer :: d
+    yes = .false.
+    do d = 1, lay%ndim
+      if (offset(d) + c(d) == 1 .and. open_side(1, d)) yes = .true.
+      if (offset(d) + c(d) == lay%cells(d) .and. open_side(2, d)) yes = .true.
+    end do
+  end function on_open
+
+  !> Whether cell c (block coordinates) lies inside the domain.
+  pure logical function in_domain(lay, offset, c) result(inside)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), c(3)
+    integer :: d
+    inside = .true.
+    do d = 1, lay%ndim
+      if (offset(d) + c(d) < 1 .or. offset(d) + c(d) > lay%cells(d)) inside = .false.
+    end do
+  end function in_domain
+
+  !> The face neighbour of cell c inside the domain (and within alpha_e) with the largest
+  !> fraction > 0, the first in -x, +x, -y, +y, -z, +z of equal ones; huge(1) when none.
+  pure function largest_neighbour(lay, offset, n, e, alpha_e, c) result(best)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), n(3), e(3), c(3)
+    real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
+    integer :: best(3), nb(3, 6), m, d
+    real(wp) :: a(6)
+    ! neighbour m: direction (m + 1) / 2, low side for odd m; -1 where there is none
+    a = -1.0_wp
+    do m = 1, 2 * lay%ndim
+      d = (m + 1) / 2
+      nb(:, m) = c
+      nb(d, m) = c(d) + 2 * mod(m + 1, 2) - 1
+      if (nb(d, m) < 1 - e(d) .or. nb(d, m) > n(d) + e(d)) cycle
+      if (in_domain(lay, offset, nb(:, m))) a(m) = alpha_e(nb(1, m), nb(2, m), nb(3, m))
+    end do
+    best = huge(1)
+    m = maxloc(a, 1)
+    if (a(m) > 0.0_wp) best = nb(:, m)
+  end function largest_neighbour
+
+  !> The first pass of turning content into states, on block blk (number b) after the halo
+  !> exchange, for the cells whose fraction has reached 0 or 1 since the last step's end
+  !> (alpha_prev): their content is brought to what their fraction says, by exchange with
+  !> their neighbours, so that the drift between the level set and the content (manual/
+  !> theory.md section 7c) stays in the cut cells, where the content, not the fraction,
+  !> decides how much material a cell holds:
+  !> - a cell the surface has left (alpha = 0) gives what content it still holds to its face
+  !>   neighbour of largest fraction;
+  !> - a cell that has turned full (alpha = 1) gives the mass it holds beyond the density of
+  !>   the full cells beside it (or takes what it lacks, at most half of the receiver's),
+  !>   with its state per mass, to its cut face neighbour of largest fraction.
+  !> The interior's content afterwards goes into q (the caller exchanges it again before
+  !> cut_open). Content with no wet neighbour stays (cut_open counts it as stranded).
+  subroutine cut_donate(blk, ph, p, alpha_e, alpha_prev)
+    type(block_t), intent(inout) :: blk
+    type(phases_t), intent(in) :: ph
+    integer, intent(in) :: p
+    real(wp), intent(in) :: alpha_e(:, :, :), alpha_prev(:, :, :)
+    real(wp), allocatable :: cq(:, :, :, :)
+    real(wp) :: ex(ph%nflow)
+    integer :: e(3), n(3), i, j, k, d, s, nb(3), best(3), lo, nf
+    lo = ph%lo(p)
+    nf = ph%nflow
+    associate (lay => blk%lay, q => blk%q)
+      n = blk%n
+      e = max(lay%ng - 1, 0)
+      allocate(cq(1-lay%ng(1):n(1)+lay%ng(1), 1-lay%ng(2):n(2)+lay%ng(2), &
+        1-lay%ng(3):n(3)+lay%ng(3), nf))
+      cq = q(:, :, :, lo:lo + nf - 1)
+      do k = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
+            ! (nothing moves where the cell and its face neighbours were full and still are)
+            if (settled([i, j, k])) cycle
+            if (.not. alpha_at([i, j, k]) > 0.0_wp) then
+              if (.not. maxval(abs(cq(i, j, k, :))) > 0.0_wp) cycle
+              best = largest_neighbour(lay, blk%offset, n, e, alpha_e, [i, j, k])
+              if (best(1) /= huge(1)) q(i, j, k, lo:lo + nf - 1) = 0.0_wp
+              cycle
+            end if
+            call filled_excess([i, j, k], best, ex)
+            if (best(1) /= huge(1)) q(i, j, k, lo:lo + nf - 1) = cq(i, j, k, :) - ex
+            ! what the emptied and the filled neighbours give this cell
+            do d = 1, lay%ndim
+              do s = -1, 1, 2
+                nb = [i, j, k]
+                nb(d) = nb(d) + s
+                if (.not. in_domain(lay, blk%offset, nb)) cycle
+                if (alpha_at(nb) > 0.0_wp) then
+                  call filled_excess(nb, best, ex)
+                else
+                  best = largest_neighbour(lay, blk%offset, n, e, alpha_e, nb)
+                  ex = cq(nb(1), nb(2), nb(3), :)
+                end if
+                ! content per cell volume: the volumes differ along r in axisymmetry
+                if (all(best == [i, j, k])) q(i, j, k, lo:lo + nf - 1) = &
+                  q(i, j, k, lo:lo + nf - 1) + ex &
+                  * (cell_volume(lay, blk%offset, nb(1)) / cell_volume(lay, blk%offset, i))
+              end do
+            end do
+          end do
+        end do
+      end do
+    end associate
+
+  contains
+
+    real(wp) function alpha_at(c)
+      integer, intent(in) :: c(3)
+      alpha_at = alpha_e(c(1) + e(1), c(2) + e(2), c(3) + e(3))
+    end function alpha_at
+
+    !> whether cell c and its face neighbours are full now and were at the last step's end
+    logical function settled(c)
+      integer, intent(in) :: c(3)
+      integer :: dd, ss, m(3)
+      settled = .false.
+      if (.not. (alpha_at(c) >= full .and. &
+        alpha_prev(c(1) + e(1), c(2) + e(2), c(3) + e(3)) >= full)) return
+      do dd = 1, blk%lay%ndim
+        do ss = -1, 1, 2
+          m = c
+          m(dd) = m(dd) + ss
+          if (.not. (alpha_at(m) >= full .and. &
+            alpha_prev(m(1) + e(1), m(2) + e(2), m(3) + e(3)) >= full)) return
+        end do
+      end do
+      settled = .true.
+    end function settled
+
+    !> For a cell c that has turned full since the last step: the content it gives (ex,
+    !> negative where it takes) and to which cut neighbour (to); to(1) = huge(1) otherwise.
+    subroutine filled_excess(c, to, ex)
+      integer, intent(in) :: c(3)
+      integer, intent(out) :: to(3)
+      real(wp), intent(out) :: ex(:)
+      real(wp) :: rho, a, best_a, lack
+      integer :: dd, ss, m(3)
+      to = huge(1)
+      ex = 0.0_wp
+      if (.not. alpha_at(c) >= full) return
+      if (alpha_prev(c(1) + e(1), c(2) + e(2), c(3) + e(3)) >= full) return
+      if (.not. cq(c(1), c(2), c(3), i_rho) > 0.0_wp) return
+      best_a = 0.0_wp
+      do dd = 1, blk%lay%ndim
+        do ss = -1, 1, 2
+          m = c
+          m(dd) = m(dd) + ss
+          if (m(dd) < 1 - e(dd) .or. m(dd) > n(dd) + e(dd)) cycle
+          if (.not. in_domain(blk%lay, blk%offset, m)) cycle
+          a = alpha_at(m)
+          if (a > best_a .and. a < full) then
+            best_a = a
+            to = m
+          end if
+        end do
+      end do
+      if (to(1) == huge(1)) return
+      rho = full_density(blk%lay, blk%offset, e, alpha_e, cq(:, :, :, i_rho), c)
+      if (.not. rho > 0.0_wp) then
+        to = huge(1)
+        return
+      end if
+      ex = cq(c(1), c(2), c(3), :) * (1.0_wp - rho / cq(c(1), c(2), c(3), i_rho))
+      if (ex(i_rho) >= 0.0_wp) return
+      if (.not. cq(to(1), to(2), to(3), i_rho) > 0.0_wp) then
+        to = huge(1)
+        ex = 0.0_wp
+        return
+      end if
+      ! a deficit: at most half the receiver's mass (per the giver's volume), and what is
+      ! taken has the receiver's state per mass (so that eps_p and w_c stay within range)
+      lack = 0.5_wp * cq(to(1), to(2), to(3), i_rho) * cell_volume(blk%lay, blk%offset, to(1)) &
+        / cell_volume(blk%lay, blk%offset, c(1))
+      ex = max(ex(i_rho), -lack) * cq(to(1), to(2), to(3), :) / cq(to(1), to(2), to(3), i_rho)
+    end subroutine filled_excess
+  end subroutine cut_donate
+end module m_gfm_cut_cells

@@ -1,0 +1,65 @@
+!> The TVD Runge-Kutta steps of Shu and Osher (1988) that every update shares: the stage
+!> update of the interior (rk_stage_update), the weight of the step's start in a stage
+!> (rk_blend), and the weight of each stage's right-hand side in the whole step (rk_weights,
+!> what crossed a face in a step, for the budgets).
+module m_runge_kutta
+  use m_kinds, only: wp
+  use m_layout, only: layout_t
+  implicit none
+  private
+  public :: rk_stage_update, rk_weights, rk_blend
+
+contains
+
+  !> TVD Runge-Kutta stage (Shu and Osher 1988): q = a q0 + b (q + dt rhs) on the interior.
+  subroutine rk_stage_update(lay, stage, order, dt, q, q0, rhs)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: stage, order
+    real(wp), intent(in) :: dt
+    real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    real(wp), intent(inout) :: q0(:, :, :, :)
+    real(wp), intent(in) :: rhs(:, :, :, :)
+    real(wp) :: a, b
+    integer :: n1, n2, n3
+    n1 = lay%bsize(1)
+    n2 = lay%bsize(2)
+    n3 = lay%bsize(3)
+    if (stage == 1) then
+      q0 = q(1:n1, 1:n2, 1:n3, :)
+      q(1:n1, 1:n2, 1:n3, :) = q0 + dt * rhs
+      return
+    end if
+    a = rk_blend(stage, order)
+    b = 1.0_wp - a
+    q(1:n1, 1:n2, 1:n3, :) = a * q0 + b * (q(1:n1, 1:n2, 1:n3, :) + dt * rhs)
+  end subroutine rk_stage_update
+
+  !> The weight a of the step's start in stage `stage` (> 1) of the TVD Runge-Kutta step:
+  !> q = a q0 + (1 - a) (q + dt rhs).
+  pure real(wp) function rk_blend(stage, order) result(a)
+    integer, intent(in) :: stage, order
+    if (order == 2) then
+      a = 0.5_wp
+    else if (stage == 2) then
+      a = 0.75_wp
+    else
+      a = 1.0_wp / 3.0_wp
+    end if
+  end function rk_blend
+
+  !> The weight of each stage's right-hand side in the step that rk_stage_update makes: the
+  !> step adds dt times the sum of weight(s) L(q_s) (what crossed a face in a step).
+  pure function rk_weights(order) result(w)
+    integer, intent(in) :: order
+    real(wp) :: w(3)
+    select case (order)
+    case (1)
+      w = [1.0_wp, 0.0_wp, 0.0_wp]
+    case (2)
+      w = [0.5_wp, 0.5_wp, 0.0_wp]
+    case default
+      w = [1.0_wp, 1.0_wp, 4.0_wp] / 6.0_wp
+    end select
+  end function rk_weights
+
+end module m_runge_kutta
