@@ -380,31 +380,31 @@ contains
     integer, intent(in) :: b, stage
     type(block_t), intent(inout) :: blk
     type(phases_t), intent(in) :: ph
-    integer :: i, j, k, v0, n(3)
-    real(wp) :: m
     if (ph%nflow <= i_epsp - 1) return
-    v0 = ph%lo(cut%p) - 1
-    n = blk%n
-    do k = 1, n(3)
-      do j = 1, n(2)
-        do i = 1, n(1)
-          if (.not. cut%faces(b)%alpha(i, j, k) > 0.0_wp) cycle
-          if (stage == 1) then
-            m = cut%c0(i, j, k, i_rho, b)
-          else
-            m = cut%c(i, j, k, i_rho, b)
-          end if
-          if (.not. m > 0.0_wp) cycle
-          if (stage == 1) then
+    ! the first stage starts from the step's start content, the later ones from the stage's
+    if (stage == 1) then
+      call restore(cut%c0(:, :, :, :, b))
+    else
+      call restore(cut%c(:, :, :, :, b))
+    end if
+
+  contains
+
+    subroutine restore(c)
+      real(wp), intent(in) :: c(:, :, :, :)
+      integer :: i, j, k, v0
+      v0 = ph%lo(cut%p) - 1
+      do k = 1, blk%n(3)
+        do j = 1, blk%n(2)
+          do i = 1, blk%n(1)
+            if (.not. cut%faces(b)%alpha(i, j, k) > 0.0_wp) cycle
+            if (.not. c(i, j, k, i_rho) > 0.0_wp) cycle
             blk%q(i, j, k, v0 + i_epsp:v0 + i_wcold) = blk%q(i, j, k, v0 + i_rho) &
-              * cut%c0(i, j, k, i_epsp:i_wcold, b) / m
-          else
-            blk%q(i, j, k, v0 + i_epsp:v0 + i_wcold) = blk%q(i, j, k, v0 + i_rho) &
-              * cut%c(i, j, k, i_epsp:i_wcold, b) / m
-          end if
+              * c(i, j, k, i_epsp:i_wcold) / c(i, j, k, i_rho)
+          end do
         end do
       end do
-    end do
+    end subroutine restore
   end subroutine cut_scalars
 
   !> A block that has fallen dormant (m_gfm: far from every surface) holds no phase: what
