@@ -28,15 +28,15 @@ module m_gfm_cut
   use m_layout, only: layout_t, cell_volume
   use m_blocks, only: block_t
   use m_phases, only: phases_t
-  use m_state, only: i_rho, i_mx, i_mz, i_en, n_euler, i_epsp, i_wcold
+  use m_state, only: i_rho, i_en, i_epsp, i_wcold
   use m_euler, only: cut_faces_t
   use m_runge_kutta, only: rk_blend
-  use m_levelset_bodies, only: ls_set_t, ls_region, ls_material, ls_void
+  use m_levelset_bodies, only: ls_set_t, ls_material, ls_void
   use m_levelset_cut, only: levelset_cut
-  use m_gfm_cut_cells, only: full, full_density, group_roots, on_open, cut_donate
+  use m_gfm_cut_cells, only: full, full_density, group_roots, on_open
   implicit none
   private
-  public :: cut_t, cut_setup, cut_geometry, cut_donate, cut_open, cut_update, cut_content
+  public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update, cut_content
   public :: cut_strand, cut_scalars
 
   !> A block's fractions over the padded block less its outer layer (for the mixing).

@@ -19,8 +19,8 @@ module m_gfm_stage
   use m_scene, only: rigid_bodies_move
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
-  use m_gfm_cut, only: cut_t, cut_geometry, cut_donate, cut_open, cut_update, cut_strand, &
-    cut_scalars
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars
+  use m_gfm_cut_cells, only: cut_donate
   use m_state, only: n_euler, i_rho
   use m_boundary, only: ghosts_all, bc_outflow
   use m_comm, only: comm_any
