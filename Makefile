@@ -48,7 +48,7 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_signals core/m_conf
   gfm/m_gfm_cut_cells gfm/m_gfm_cut gfm/m_gfm_stage strength/m_material_library numerics/m_numerics_defaults \
   io/m_deck_text io/m_deck_parse io/m_deck_schema io/m_deck_check io/m_deck io/m_history \
   io/m_hdf5_file io/m_hdf5_attr io/m_hdf5_io io/m_xdmf io/m_json
-DRIVER := m_simulation m_output m_checkpoint m_run_report m_run_log m_step m_rebalance m_timeloop
+DRIVER := m_hotspot m_simulation m_output m_checkpoint m_run_report m_run_log m_step m_rebalance m_timeloop
 SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))
 # comm back end (manual/design.md section 3): COMM=mpi (default) builds bin/sabre and
@@ -64,7 +64,7 @@ SRC := $(subst modules/parallel/m_comm.f90,modules/parallel/m_comm_mpi.f90 \
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset \
-  test_gfm test_euler test_boundary test_partition test_levelset_cut
+  test_gfm test_euler test_boundary test_partition test_levelset_cut test_hotspot
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
 .PHONY: all deps check check-caf check-batch run verify bench clean unit accuracy accuracy-taylor stability

@@ -11,6 +11,7 @@ module m_checkpoint
   use m_errors, only: stop_collective, log_line
   use m_deck_text, only: base_name, int_text
   use m_output, only: step_file_name
+  use m_hotspot, only: hot_pack, hot_unpack
   implicit none
   private
   public :: output_checkpoint, output_restart, output_restart_check
@@ -72,6 +73,8 @@ contains
       end do
       call h5_write_field(f, trim(state_names(m)), sim%lay, ids, data)
     end do
+    ! the hot-spot peaks so far (run.json's summary covers the whole run)
+    if (sim%hot%on) call h5_write_attr(f, 'hotspots', hot_pack(sim%hot))
     if (sim%cut%on) then
       ! the cut-cell phase's content (its states do not give it back: a cut cell's state
       ! has the density of the material beside it) and its budget so far (m_gfm_cut)
@@ -167,7 +170,8 @@ contains
     real(wp), allocatable :: data(:, :, :, :)
     integer, allocatable :: ids(:)
     integer :: m, b, n(3)
-    real(wp), allocatable :: fix(:)
+    real(wp), allocatable :: fix(:), hot(:)
+    logical :: ok
     ! that the file is a checkpoint for this grid and state was checked before anything was
     ! written (output_restart_check)
     n = sim%lay%nmax
@@ -205,6 +209,17 @@ contains
         sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m) = data(1:n(1), 1:n(2), 1:n(3), b)
       end do
     end do
+    if (sim%hot%on) then
+      ok = h5_has_attr(f, 'hotspots')
+      if (ok) then
+        hot = hot_pack(sim%hot)   ! (the length this scene's peaks take)
+        call h5_read_attr(f, 'hotspots', hot)
+        call hot_unpack(sim%hot, hot, ok)
+      end if
+      if (.not. ok) call log_line('restart: ' // trim(path) // ' has no hot-spot peaks of ' &
+        // 'this scene (written before them, or with other voids): run.json summarises from ' &
+        // 'the restart on')
+    end if
     sim%cut%restored = .false.
     if (sim%cut%on) then
       if (h5_exists(f, trim(content_names(1)))) then

@@ -16,6 +16,8 @@ module m_output
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
   use m_config, only: is_set, material_index
+  use m_hotspot, only: hot_t, hot_columns, hot_cell, hot_row, hot_block_start
+  use m_kinds, only: i8
   implicit none
   private
   public :: output_plot
@@ -201,13 +203,15 @@ contains
       cols = [character(len=name_len) :: cols, &
         (trim(sim%ls%name(l)) // '_' // trim(item(k)), k = 1, 8)]
     end do
+    cols = [character(len=name_len) :: cols, hot_columns(sim%hot)]
   end function history_columns
 
   !> The history row after 'step': totals over the real cells (volume-weighted; 2 pi r in
-  !> axisymmetry), maxima, and the bodies' columns. max_T leaves out a gas without cv (no
-  !> temperature); 0 when no phase has one.
+  !> axisymmetry), maxima, the bodies' columns and the hot spots' (m_hotspot, whose run
+  !> peaks it updates). max_T leaves out a gas without cv (no temperature); 0 when no phase
+  !> has one.
   function history_values(sim) result(v)
-    type(sim_t), intent(in) :: sim
+    type(sim_t), intent(inout) :: sim
     real(wp), allocatable :: v(:)
     real(wp) :: tot(8), pmax, tmax, epmax, cut_tot(8), sums(11)
     integer :: b, l, nb, ph
@@ -222,9 +226,10 @@ contains
     ! block by block, then over the block ids: the same sums however the blocks are owned
     allocate(part(11, size(sim%blocks)))
     part = 0.0_wp
+    call hot_block_start(sim%hot)
     do b = 1, size(sim%blocks)
       tot = 0.0_wp
-      call block_totals(sim, b, has_t, tot, pmax, tmax, epmax)
+      call block_totals(sim, b, has_t, tot, pmax, tmax, epmax, sim%hot)
       part(1:7, b) = tot(1:7)
       if (sim%cut%on) part(8:11, b) = cut_content(sim%cut, b, sim%blocks(b), &
         sim%ph%lo(sim%cut%p))
@@ -246,8 +251,8 @@ contains
       cut_tot(8) = sums(11)
       v = [v, cut_tot]
     end if
-    nb = count(sim%ls%kind == ls_material)
-    if (nb == 0) return
+    nb = 0
+    if (sim%ls%n > 0) nb = count(sim%ls%kind == ls_material)
     allocate(body(8, nb))
     nb = 0
     do l = 1, sim%ls%n
@@ -255,15 +260,18 @@ contains
       nb = nb + 1
       body(:, nb) = body_measures(sim, l)
     end do
-    v = [v, reshape(body, [8 * nb])]
+    if (nb > 0) v = [v, reshape(body, [8 * nb])]
+    v = [v, hot_row(sim%hot, sim%clk%time, tmax, tot(6), tot(5), &
+      [(void_volume(sim, sim%hot%void(l)%l), l = 1, size(sim%hot%void))], sim%lay%cells)]
   end function history_values
 
   !> The totals and maxima of history_values over block b, added in cell order.
-  subroutine block_totals(sim, b, has_t, tot, pmax, tmax, epmax)
+  subroutine block_totals(sim, b, has_t, tot, pmax, tmax, epmax, hot)
     type(sim_t), intent(in) :: sim
     integer, intent(in) :: b
     logical, intent(in) :: has_t(:)   !< phases with a temperature (max_T)
     real(wp), intent(inout) :: tot(8), pmax, tmax, epmax
+    type(hot_t), intent(inout) :: hot   !< its cells' temperatures go to the hot spots
     real(wp), dimension(sim%blocks(b)%n(1)) :: rho, u, vv, w, p, e, temp, dv, msk
     integer :: sel(sim%blocks(b)%n(1))
     logical :: isreal(sim%blocks(b)%n(1))
@@ -295,6 +303,13 @@ contains
               tot(7) = tot(7) + sum(msk * dv * qp(:, i_en))
               pmax = max(pmax, maxval(p, msk > 0.0_wp))
               if (has_t(ph)) tmax = max(tmax, maxval(temp, msk > 0.0_wp))
+              if (has_t(ph) .and. hot%on) then
+                do i = 1, n
+                  if (.not. msk(i) > 0.0_wp) cycle
+                  call hot_cell(hot, sim%blocks(b)%id, global_index(i, j, k), &
+                    cell_centre(sim%lay, off, i, j, k), dv(i), rho(i), temp(i))
+                end do
+              end if
               if (sim%ph%strong(ph)) epmax = max(epmax, &
                 maxval(qp(:, i_epsp) / rho, msk > 0.0_wp))
             end associate
@@ -302,7 +317,38 @@ contains
         end do
       end do
     end associate
+
+  contains
+
+    !> the 0-based index of cell (i, j, k) of the block in the whole grid
+    integer(i8) function global_index(i0, j0, k0) result(g)
+      integer, intent(in) :: i0, j0, k0
+      g = int(sim%blocks(b)%offset(1) + i0 - 1, i8) + int(sim%lay%cells(1), i8) &
+        * (int(sim%blocks(b)%offset(2) + j0 - 1, i8) + int(sim%lay%cells(2), i8) &
+        * int(sim%blocks(b)%offset(3) + k0 - 1, i8))
+    end function global_index
   end subroutine block_totals
+
+  !> The volume of void body l (its level set negative inside): sum f V with the cell's
+  !> share f = 1/2 - phi / h, clipped to [0, 1], over the block ids.
+  real(wp) function void_volume(sim, l) result(vol)
+    type(sim_t), intent(in) :: sim
+    integer, intent(in) :: l
+    real(wp) :: h, part(1, size(sim%blocks)), s(1)
+    integer :: b, i, n(3)
+    h = maxval(sim%lay%dx(1:sim%lay%ndim))
+    part = 0.0_wp
+    do b = 1, size(sim%blocks)
+      n = sim%blocks(b)%n
+      do i = 1, n(1)
+        part(1, b) = part(1, b) + cell_volume(sim%lay, sim%blocks(b)%offset, i) &
+          * sum(min(1.0_wp, max(0.0_wp, 0.5_wp - sim%blocks(b)%q(i, 1:n(2), 1:n(3), &
+          sim%ph%ils + l) / h)))
+      end do
+    end do
+    s = comm_sum_by_key(part, [(sim%blocks(b)%id, b = 1, size(sim%blocks))], sim%lay%nblocks)
+    vol = s(1)
+  end function void_volume
 
   !> The phase of each cell of a row (the one whose composite level set is least there) and
   !> whether the cell is real for it (in its region).

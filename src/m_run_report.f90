@@ -8,6 +8,7 @@ module m_run_report
   use, intrinsic :: iso_fortran_env, only: compiler_version, compiler_options
   use m_kinds, only: wp, i8, line_len
   use m_simulation, only: sim_t, mem_parts
+  use m_hotspot, only: hot_json
   use m_gfm, only: gfm_counts_t
   use m_comm, only: comm_sum, comm_min, comm_max, comm_size, comm_wtime, comm_is_root
   use m_errors, only: log_line, log_flush
@@ -318,6 +319,7 @@ contains
       call json_put(js, 'aside_steps', f%fix_aside)
       call json_close(js)
     end if
+    call hot_json(s%hot, js)
     call json_object(js, 'timings')
     call json_put(js, 'wall_seconds', f%wall)
     call json_put(js, 'loop_seconds', f%loop)

@@ -9,7 +9,7 @@
 !> m_output).
 module m_simulation
   use m_kinds, only: wp, i8, name_len
-  use m_config, only: config_t, material_t, material_index
+  use m_config, only: config_t, material_t, material_index, is_set
   use m_layout, only: layout_t, layout_init, block_offset, block_extent
   use m_blocks, only: block_t, blocks_allocate
   use m_halo, only: halo_plan_t, halo_plan_build
@@ -33,6 +33,7 @@ module m_simulation
   use m_comm, only: comm_rank, comm_size, comm_node_ranks, comm_any, comm_max
   use m_errors, only: stop_collective
   use m_deck_text, only: base_name, int_text
+  use m_hotspot, only: hot_t, hot_setup
   implicit none
   private
   public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, sim_rate, mem_parts, &
@@ -92,6 +93,7 @@ module m_simulation
     type(timers_t) :: timers
     type(memory_t) :: mem
     type(balance_t) :: bal             !< the blocks' measured work, checks, migrations
+    type(hot_t) :: hot                 !< hot-spot diagnostics (m_hotspot)
   end type sim_t
 
 contains
@@ -171,6 +173,7 @@ contains
         call fix_setup(sim%fix, sim%ph, sim%ls, cfg%conserve, size(sim%blocks))
       end if
     end if
+    call hot_start(sim)
     sim%num%scheme = scheme_from_name(cfg%scheme)
     sim%num%flux = flux_from_name(cfg%flux)
     sim%num%scalar_flux = scalar_flux_from_name(cfg%scalar_flux)
@@ -521,5 +524,37 @@ contains
     rate = comm_max(rate)
     if (.not. rate > 0.0_wp) rate = tiny(1.0_wp)
   end subroutine sim_rate
+
+  !> The hot-spot diagnostics (m_hotspot): on when a material in use has a temperature (cv);
+  !> the void bodies with their centres and sizes (a box's half diagonal, a half space none).
+  subroutine hot_start(sim)
+    type(sim_t), intent(inout) :: sim
+    integer :: l, nv, k
+    integer, allocatable :: lv(:)
+    real(wp), allocatable :: centres(:, :), radii(:)
+    logical :: has_t
+    has_t = .false.
+    do k = 1, sim%ph%nphase
+      has_t = has_t .or. is_set(sim%cfg%materials(material_index(sim%cfg, &
+        sim%ph%material(k)))%cv)
+    end do
+    allocate(lv(0))
+    if (sim%ls%n > 0) lv = pack([(l, l = 1, sim%ls%n)], sim%ls%kind == ls_void)
+    nv = size(lv)
+    allocate(centres(3, nv), radii(nv))
+    do k = 1, nv
+      associate (body => sim%cfg%bodies(sim%ls%body(lv(k))))
+        centres(:, k) = body%center
+        radii(k) = body%radius
+        if (body%shape == 'box') then
+          centres(:, k) = 0.5_wp * (body%lo + body%hi)
+          radii(k) = 0.5_wp * norm2(body%hi(1:sim%lay%ndim) - body%lo(1:sim%lay%ndim))
+        end if
+      end associate
+    end do
+    call hot_setup(sim%hot, has_t, sim%lay%ndim, sim%cfg%hot_thresholds, &
+      [character(len=name_len) :: (sim%cfg%bodies(sim%ls%body(lv(k)))%name, k = 1, nv)], lv, &
+      centres, radii, sim%lay%nblocks)
+  end subroutine hot_start
 
 end module m_simulation

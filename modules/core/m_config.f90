@@ -73,6 +73,7 @@ module m_config
     ! &output
     real(wp) :: plot_dt = 0.0_wp
     integer :: plot_every = 0, checkpoint_every = 0, history_every = 1, n_fields = 0
+    real(wp) :: hot_thresholds(4) = [700.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]   !< K (m_hotspot)
     character(len=name_len) :: fields(max_fields) = ''
   end type config_t
 

@@ -186,6 +186,8 @@ contains
       allowed='>= 0 (0 = only at wall_limit)')
     call t%add('history_every', c%history_every, '10', 'steps between history.csv lines', &
       allowed='>= 1')
+    call t%add('hot_thresholds', c%hot_thresholds, '700.0, 1000.0', &
+      'hot-spot temperatures (K), up to 4; 0 unused (m_hotspot)')
     call t%add('fields', c%fields, "'rho', 'u', 'p'", 'plot fields (empty: a standard list)')
     t%v(t%n)%count => c%n_fields
     allocate(vars, source=t%v(1:t%n))

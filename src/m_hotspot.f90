@@ -1,0 +1,446 @@
+!> Hot-spot diagnostics (issue 16, manual/hotspots.md): at each history row, for each
+!> temperature threshold (&output hot_thresholds, 700 K unless set), the area (2D) or volume
+!> (3D, and axisymmetric) and the mass of the material above it and the number of distinct
+!> hot spots (regions of face-connected cells above it); for each void body its volume from
+!> its level set and the peak temperature within hot_reach of its starting radius of its
+!> centre. The run's summary (run.json `hotspots`) keeps the peaks: the hottest cell and when,
+!> the largest hot area and count per threshold, and per void its starting and least volume,
+!> when it collapsed (its volume first below collapse_fraction of the start) and its peak
+!> temperature near it.
+!> The counting is the same on any number of ranks: each block lists its cells above the
+!> lowest threshold (global index and temperature); the lists are joined in block-id order
+!> on every rank (two sums of arrays in which each entry has one non-zero term) and the
+!> regions are counted there, by union-find over the sorted list.
+module m_hotspot
+  use m_kinds, only: wp, i8, name_len
+  use m_comm, only: comm_sum_array, comm_max
+  use m_json, only: json_t, json_object, json_close, json_put, json_put_array
+  implicit none
+  private
+  public :: hot_t, hot_setup, hot_columns, hot_cell, hot_row, hot_block_start, hot_count
+  public :: hot_json, hot_pack, hot_unpack
+
+  integer, parameter :: max_thresholds = 4
+  !> a void has collapsed when its volume is below this share of its starting volume
+  real(wp), parameter :: collapse_fraction = 0.01_wp
+  !> the peak near a void: within this many of its starting radii of its centre
+  real(wp), parameter :: hot_reach = 1.5_wp
+
+  !> One void body: where it is, and what the run has seen of it.
+  type :: void_t
+    character(len=name_len) :: name = ''
+    integer :: l = 0                      !< its level set
+    real(wp) :: centre(3) = 0.0_wp, radius = 0.0_wp
+    real(wp) :: vol0 = -1.0_wp            !< its volume at the first row (-1: not yet)
+    real(wp) :: vol_min = huge(1.0_wp), t_min = 0.0_wp
+    real(wp) :: t_collapse = -1.0_wp      !< -1: not collapsed
+    real(wp) :: t_near = 0.0_wp           !< the peak temperature near it (this row)
+    real(wp) :: t_near_max = 0.0_wp, t_near_when = 0.0_wp
+  end type void_t
+
+  !> The thresholds, the voids, the block lists of one row and the run's peaks.
+  type :: hot_t
+    logical :: on = .false.               !< a material in use has a temperature
+    integer :: ndim = 3                   !< distances to a void's centre along these
+    integer :: n = 0                      !< thresholds
+    real(wp) :: thr(max_thresholds) = 0.0_wp
+    type(void_t), allocatable :: void(:)
+    ! this row, on this rank: per block its cells above thr(1), then the sums by threshold
+    integer :: nblocks = 0
+    integer, allocatable :: count_b(:)            !< (block id) cells listed
+    integer(i8), allocatable :: idx(:)            !< global cell index (0-based)
+    real(wp), allocatable :: temp(:)
+    integer, allocatable :: block_of(:)           !< block id of each listed cell
+    integer :: nlist = 0
+    real(wp), allocatable :: part(:, :)           !< (area, mass per threshold; block id)
+    ! the run's peaks
+    real(wp) :: t_peak = 0.0_wp, t_peak_time = 0.0_wp
+    real(wp) :: area_max(max_thresholds) = 0.0_wp, area_when(max_thresholds) = 0.0_wp
+    integer :: spots_max(max_thresholds) = 0
+    real(wp) :: spots_when(max_thresholds) = 0.0_wp
+  end type hot_t
+
+contains
+
+  !> thresholds: the deck's (K, ascending; those <= 0 left out); names, centres and radii of
+  !> the void bodies with their level-set numbers; nblocks: the blocks of the grid.
+  subroutine hot_setup(hot, on, ndim, thresholds, names, ls_index, centres, radii, nblocks)
+    type(hot_t), intent(out) :: hot
+    logical, intent(in) :: on
+    integer, intent(in) :: ndim
+    real(wp), intent(in) :: thresholds(:), centres(:, :), radii(:)
+    character(len=*), intent(in) :: names(:)
+    integer, intent(in) :: ls_index(:), nblocks
+    integer :: v, k
+    real(wp) :: t
+    hot%on = on
+    hot%ndim = ndim
+    hot%n = min(count(thresholds > 0.0_wp), max_thresholds)
+    hot%thr(1:hot%n) = pack(thresholds, thresholds > 0.0_wp)
+    ! ascending (hot_cell counts a cell for each threshold up to the first it is below)
+    do v = 2, hot%n
+      do k = v, 2, -1
+        if (.not. hot%thr(k) < hot%thr(k - 1)) exit
+        t = hot%thr(k)
+        hot%thr(k) = hot%thr(k - 1)
+        hot%thr(k - 1) = t
+      end do
+    end do
+    allocate(hot%void(size(names)))
+    do v = 1, size(names)
+      hot%void(v)%name = names(v)
+      hot%void(v)%l = ls_index(v)
+      hot%void(v)%centre = centres(:, v)
+      hot%void(v)%radius = radii(v)
+    end do
+    hot%nblocks = nblocks
+    allocate(hot%count_b(nblocks), hot%part(2 * max_thresholds, nblocks))
+    allocate(hot%idx(0), hot%temp(0), hot%block_of(0))
+  end subroutine hot_setup
+
+  !> history.csv's columns: per threshold hot_area_<T>, hot_mass_<T>, hot_spots_<T>; the
+  !> ratio of internal to kinetic energy; per void <name>_vol and <name>_T_near.
+  function hot_columns(hot) result(cols)
+    type(hot_t), intent(in) :: hot
+    character(len=name_len), allocatable :: cols(:)
+    character(len=16) :: t
+    integer :: m, v
+    allocate(cols(0))
+    if (.not. hot%on) return
+    do m = 1, hot%n
+      write(t, '(i0)') nint(hot%thr(m))
+      cols = [character(len=name_len) :: cols, 'hot_area_' // trim(t), 'hot_mass_' // trim(t), &
+        'hot_spots_' // trim(t)]
+    end do
+    cols = [character(len=name_len) :: cols, 'ie_over_ke']
+    do v = 1, size(hot%void)
+      cols = [character(len=name_len) :: cols, trim(hot%void(v)%name) // '_vol', &
+        trim(hot%void(v)%name) // '_T_near']
+    end do
+  end function hot_columns
+
+  !> The start of a history row: nothing listed yet.
+  subroutine hot_block_start(hot)
+    type(hot_t), intent(inout) :: hot
+    hot%count_b = 0
+    hot%part = 0.0_wp
+    hot%nlist = 0
+    hot%void%t_near = 0.0_wp
+  end subroutine hot_block_start
+
+  !> One real cell of block id (global cell gidx, centre x, volume dv, density rho) at
+  !> temperature temp: its share of the sums, the list, and the voids' peaks near it.
+  subroutine hot_cell(hot, id, gidx, x, dv, rho, temp)
+    type(hot_t), intent(inout) :: hot
+    integer, intent(in) :: id
+    integer(i8), intent(in) :: gidx
+    real(wp), intent(in) :: x(3), dv, rho, temp
+    integer :: m, v
+    do v = 1, size(hot%void)
+      associate (vd => hot%void(v))
+        if (norm2(x(1:hot%ndim) - vd%centre(1:hot%ndim)) <= hot_reach * vd%radius) &
+          vd%t_near = max(vd%t_near, temp)
+      end associate
+    end do
+    if (hot%n == 0) return
+    if (.not. temp > hot%thr(1)) return
+    do m = 1, hot%n
+      if (.not. temp > hot%thr(m)) exit
+      hot%part(2 * m - 1, id) = hot%part(2 * m - 1, id) + dv
+      hot%part(2 * m, id) = hot%part(2 * m, id) + dv * rho
+    end do
+    if (hot%nlist == size(hot%idx)) call grow()
+    hot%nlist = hot%nlist + 1
+    hot%idx(hot%nlist) = gidx
+    hot%temp(hot%nlist) = temp
+    hot%block_of(hot%nlist) = id
+    hot%count_b(id) = hot%count_b(id) + 1
+
+  contains
+
+    subroutine grow()
+      integer(i8), allocatable :: i2(:)
+      real(wp), allocatable :: t2(:)
+      integer, allocatable :: b2(:)
+      integer :: nn
+      nn = max(64, 2 * size(hot%idx))
+      allocate(i2(nn), t2(nn), b2(nn))
+      i2(1:hot%nlist) = hot%idx(1:hot%nlist)
+      t2(1:hot%nlist) = hot%temp(1:hot%nlist)
+      b2(1:hot%nlist) = hot%block_of(1:hot%nlist)
+      call move_alloc(i2, hot%idx)
+      call move_alloc(t2, hot%temp)
+      call move_alloc(b2, hot%block_of)
+    end subroutine grow
+  end subroutine hot_cell
+
+  !> The row's values (hot_columns' order) at time t, collective; void_vol: each void's
+  !> volume (summed over the grid already), internal and kinetic: the grid's totals; cells:
+  !> the grid's cells along each direction. Updates the run's peaks (t_max: the hottest cell).
+  function hot_row(hot, t, t_max, internal, kinetic, void_vol, cells) result(v)
+    type(hot_t), intent(inout) :: hot
+    real(wp), intent(in) :: t, t_max, internal, kinetic, void_vol(:)
+    integer, intent(in) :: cells(3)
+    real(wp), allocatable :: v(:)
+    real(wp), allocatable :: counts(:), psum(:), flat(:), tflat(:)
+    real(wp) :: sums(2 * max_thresholds), near(max(size(hot%void), 1))
+    integer(i8), allocatable :: all_idx(:)
+    integer, allocatable :: first(:)
+    integer :: m, k, total, id, nv, spots
+    allocate(v(0))
+    if (.not. hot%on) return
+    nv = size(hot%void)
+    ! the sums by threshold, over the block ids (the same bits on any rank count)
+    psum = reshape(hot%part, [size(hot%part)])
+    call comm_sum_array(psum)
+    sums = 0.0_wp
+    do id = 1, hot%nblocks
+      sums = sums + psum(2 * max_thresholds * (id - 1) + 1:2 * max_thresholds * id)
+    end do
+    ! the listed cells, joined in block-id order
+    counts = real(hot%count_b, wp)
+    call comm_sum_array(counts)
+    allocate(first(hot%nblocks))
+    total = 0
+    do id = 1, hot%nblocks
+      first(id) = total
+      total = total + nint(counts(id))
+    end do
+    allocate(flat(total), tflat(total))
+    flat = 0.0_wp
+    tflat = 0.0_wp
+    block
+      integer :: seen(hot%nblocks)
+      seen = 0
+      do k = 1, hot%nlist
+        id = hot%block_of(k)
+        seen(id) = seen(id) + 1
+        flat(first(id) + seen(id)) = real(hot%idx(k), wp)
+        tflat(first(id) + seen(id)) = hot%temp(k)
+      end do
+    end block
+    call comm_sum_array(flat)
+    call comm_sum_array(tflat)
+    all_idx = nint(flat, i8)
+    do k = 1, nv
+      near(k) = comm_max(hot%void(k)%t_near)   ! (a handful of voids: one reduction each)
+    end do
+    do m = 1, hot%n
+      spots = hot_count(pack(all_idx, tflat > hot%thr(m)), cells)
+      v = [v, sums(2 * m - 1), sums(2 * m), real(spots, wp)]
+      if (sums(2 * m - 1) > hot%area_max(m)) then
+        hot%area_max(m) = sums(2 * m - 1)
+        hot%area_when(m) = t
+      end if
+      if (spots > hot%spots_max(m)) then
+        hot%spots_max(m) = spots
+        hot%spots_when(m) = t
+      end if
+    end do
+    v = [v, merge(internal / kinetic, 0.0_wp, kinetic > 0.0_wp)]
+    if (t_max > hot%t_peak) then
+      hot%t_peak = t_max
+      hot%t_peak_time = t
+    end if
+    do k = 1, nv
+      associate (vd => hot%void(k))
+        vd%t_near = near(k)
+        if (vd%vol0 < 0.0_wp) vd%vol0 = void_vol(k)
+        if (void_vol(k) < vd%vol_min) then
+          vd%vol_min = void_vol(k)
+          vd%t_min = t
+        end if
+        if (vd%t_collapse < 0.0_wp .and. void_vol(k) < collapse_fraction * vd%vol0) &
+          vd%t_collapse = t
+        if (near(k) > vd%t_near_max) then
+          vd%t_near_max = near(k)
+          vd%t_near_when = t
+        end if
+        v = [v, void_vol(k), near(k)]
+      end associate
+    end do
+  end function hot_row
+
+  !> run.json's `hotspots`: the thresholds, the run's peaks by threshold, and per void its
+  !> volumes, collapse and peak nearby (times in s; -1: never).
+  subroutine hot_json(hot, js)
+    type(hot_t), intent(in) :: hot
+    type(json_t), intent(inout) :: js
+    integer :: v
+    if (.not. hot%on) return
+    call json_object(js, 'hotspots')
+    call json_put(js, 'peak_T', hot%t_peak)
+    call json_put(js, 'peak_T_time', hot%t_peak_time)
+    call json_put_array(js, 'thresholds', hot%thr(1:hot%n))
+    call json_put_array(js, 'area_max', hot%area_max(1:hot%n))
+    call json_put_array(js, 'area_max_time', hot%area_when(1:hot%n))
+    call json_put_array(js, 'spots_max', hot%spots_max(1:hot%n))
+    call json_put_array(js, 'spots_max_time', hot%spots_when(1:hot%n))
+    call json_put(js, 'collapse_fraction', collapse_fraction)
+    call json_put(js, 'near_radii', hot_reach)
+    do v = 1, size(hot%void)
+      associate (vd => hot%void(v))
+        call json_object(js, trim(vd%name))
+        call json_put(js, 'volume_start', vd%vol0)
+        call json_put(js, 'volume_min', vd%vol_min)
+        call json_put(js, 'volume_min_time', vd%t_min)
+        call json_put(js, 'collapse_time', vd%t_collapse)
+        call json_put(js, 'peak_T_near', vd%t_near_max)
+        call json_put(js, 'peak_T_near_time', vd%t_near_when)
+        call json_close(js)
+      end associate
+    end do
+    call json_close(js)
+  end subroutine hot_json
+
+  !> The run's peaks as one array, for a checkpoint (hot_unpack reads it back): the peak and
+  !> its time, per threshold (4) the largest area, its time, the most spots, their time, then
+  !> per void its start and least volume, that time, collapse time, peak nearby and its time.
+  function hot_pack(hot) result(a)
+    type(hot_t), intent(in) :: hot
+    real(wp), allocatable :: a(:)
+    integer :: v
+    a = [hot%t_peak, hot%t_peak_time, hot%area_max, hot%area_when, real(hot%spots_max, wp), &
+      hot%spots_when]
+    do v = 1, size(hot%void)
+      associate (vd => hot%void(v))
+        a = [a, vd%vol0, vd%vol_min, vd%t_min, vd%t_collapse, vd%t_near_max, vd%t_near_when]
+      end associate
+    end do
+  end function hot_pack
+
+  !> The peaks from hot_pack's array; ok: it had the length of this run's (the same voids).
+  subroutine hot_unpack(hot, a, ok)
+    type(hot_t), intent(inout) :: hot
+    real(wp), intent(in) :: a(:)
+    logical, intent(out) :: ok
+    integer :: v, m, o
+    ok = size(a) == 2 + 4 * max_thresholds + 6 * size(hot%void)
+    if (.not. ok) return
+    hot%t_peak = a(1)
+    hot%t_peak_time = a(2)
+    m = max_thresholds
+    hot%area_max = a(3:2 + m)
+    hot%area_when = a(3 + m:2 + 2 * m)
+    hot%spots_max = nint(a(3 + 2 * m:2 + 3 * m))
+    hot%spots_when = a(3 + 3 * m:2 + 4 * m)
+    do v = 1, size(hot%void)
+      o = 2 + 4 * m + 6 * (v - 1)
+      associate (vd => hot%void(v))
+        vd%vol0 = a(o + 1)
+        vd%vol_min = a(o + 2)
+        vd%t_min = a(o + 3)
+        vd%t_collapse = a(o + 4)
+        vd%t_near_max = a(o + 5)
+        vd%t_near_when = a(o + 6)
+      end associate
+    end do
+  end subroutine hot_unpack
+
+  !> The number of regions of face-connected cells among the cells idx (0-based global
+  !> indices i + n1 (j + n2 k), each listed once) of a grid of cells(3): union-find over the
+  !> sorted list.
+  integer function hot_count(idx, cells) result(regions)
+    integer(i8), intent(in) :: idx(:)
+    integer, intent(in) :: cells(3)
+    integer(i8), allocatable :: s(:)
+    integer, allocatable :: parent(:)
+    integer(i8) :: stride(3), c(3), nb
+    integer :: k, d, m, n
+    n = size(idx)
+    s = idx
+    call sort(s)
+    allocate(parent(n))
+    parent = [(k, k = 1, n)]
+    stride = [1_i8, int(cells(1), i8), int(cells(1), i8) * int(cells(2), i8)]
+    do k = 1, n
+      c(1) = mod(s(k), stride(2))
+      c(2) = mod(s(k) / stride(2), int(cells(2), i8))
+      c(3) = s(k) / stride(3)
+      ! the neighbours above along each direction (those below find this cell)
+      do d = 1, 3
+        if (c(d) + 1 >= cells(d)) cycle
+        nb = s(k) + stride(d)
+        m = find_index(nb)
+        if (m > 0) call join(k, m)
+      end do
+    end do
+    regions = count([(root(k) == k, k = 1, n)])
+
+  contains
+
+    integer function find_index(key) result(pos)
+      integer(i8), intent(in) :: key
+      integer :: lo, hi, mid
+      lo = 1
+      hi = n
+      pos = 0
+      do while (lo <= hi)
+        mid = (lo + hi) / 2
+        if (s(mid) == key) then
+          pos = mid
+          return
+        else if (s(mid) < key) then
+          lo = mid + 1
+        else
+          hi = mid - 1
+        end if
+      end do
+    end function find_index
+
+    recursive integer function root(a) result(r)
+      integer, intent(in) :: a
+      if (parent(a) == a) then
+        r = a
+      else
+        r = root(parent(a))
+        parent(a) = r
+      end if
+    end function root
+
+    subroutine join(a, b)
+      integer, intent(in) :: a, b
+      integer :: ra, rb
+      ra = root(a)
+      rb = root(b)
+      if (ra /= rb) parent(max(ra, rb)) = min(ra, rb)
+    end subroutine join
+  end function hot_count
+
+  !> Heap sort of integer keys, ascending.
+  subroutine sort(a)
+    integer(i8), intent(inout) :: a(:)
+    integer :: n, k, last
+    integer(i8) :: t
+    n = size(a)
+    do k = n / 2, 1, -1
+      call sift(k, n)
+    end do
+    do last = n, 2, -1
+      t = a(1)
+      a(1) = a(last)
+      a(last) = t
+      call sift(1, last - 1)
+    end do
+
+  contains
+
+    subroutine sift(start, bottom)
+      integer, intent(in) :: start, bottom
+      integer :: r, child
+      r = start
+      do while (2 * r <= bottom)
+        child = 2 * r
+        if (child < bottom) then
+          if (a(child + 1) > a(child)) child = child + 1
+        end if
+        if (.not. a(child) > a(r)) return
+        t = a(r)
+        a(r) = a(child)
+        a(child) = t
+        r = child
+      end do
+    end subroutine sift
+  end subroutine sort
+
+end module m_hotspot
