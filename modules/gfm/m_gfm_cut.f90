@@ -37,7 +37,7 @@ module m_gfm_cut
   implicit none
   private
   public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update, cut_content
-  public :: cut_strand, cut_scalars
+  public :: cut_strand, cut_scalars, cut_follow
 
   !> A block's fractions over the padded block less its outer layer (for the mixing).
   type :: fraction_t
@@ -52,6 +52,7 @@ module m_gfm_cut
     character(len=256) :: reason = ''
     integer :: p = 0                              !< the cut phase
     real(wp) :: small = 0.5_wp                    !< cells below this fraction are mixed
+    real(wp) :: follow = 0.5_wp                   !< gain of a void's level set towards content
     type(cut_faces_t), allocatable :: faces(:)    !< (block) geometry of the current stage
     type(fraction_t), allocatable :: ext(:)       !< (block) its fractions into the halo
     type(fraction_t), allocatable :: ext_n(:)     !< (block) the same at the last step's end
@@ -455,5 +456,52 @@ contains
       end do
     end do
   end function cut_content
+
+  !> A void body's level set follows the content (manual/theory.md section 7c): in each cut
+  !> cell of block blk (number b) whose surface is a void body's, the fraction its content
+  !> fills at the density of its state, f = C_rho / rho (at most 1), and the level set's
+  !> fraction alpha differ by the drift; the void's level set there moves by
+  !> cut%follow (f - alpha) h (at most h / 4 a step), so that the void shrinks as the
+  !> material fills it. A material body's own level set is left as it is: its drift shows
+  !> in its cut cells only and is harmless there (section 7c); a void's decides when and
+  !> where the void closes.
+  subroutine cut_follow(cut, b, blk, ph, ls)
+    type(cut_t), intent(in) :: cut
+    integer, intent(in) :: b
+    type(block_t), intent(inout) :: blk
+    type(phases_t), intent(in) :: ph
+    type(ls_set_t), intent(in) :: ls
+    integer :: i, j, k, l, lv, v0
+    real(wp) :: a, f, h, rho, top
+    if (.not. any(ls%kind == ls_void)) return
+    v0 = ph%lo(cut%p) - 1
+    h = minval(blk%lay%dx(1:blk%lay%ndim))
+    do k = 1, blk%n(3)
+      do j = 1, blk%n(2)
+        do i = 1, blk%n(1)
+          a = cut%faces(b)%alpha(i, j, k)
+          if (.not. (a > 0.0_wp .and. a < full)) cycle
+          rho = blk%q(i, j, k, v0 + i_rho)
+          if (.not. (rho > 0.0_wp .and. cut%c(i, j, k, i_rho, b) > 0.0_wp)) cycle
+          ! the void whose surface this is: the largest -phi over the void bodies
+          lv = 0
+          top = -huge(1.0_wp)
+          do l = 1, ls%n
+            if (ls%kind(l) /= ls_void) cycle
+            if (-blk%q(i, j, k, ph%ils + l) > top) then
+              top = -blk%q(i, j, k, ph%ils + l)
+              lv = l
+            end if
+          end do
+          ! (a material body's surface, where one lies nearer than the void's)
+          if (any(ls%kind == ls_material .and. blk%q(i, j, k, ph%ils + 1:ph%ils + ls%n) &
+            < -top)) cycle
+          f = min(cut%c(i, j, k, i_rho, b) / rho, 1.0_wp)
+          blk%q(i, j, k, ph%ils + lv) = blk%q(i, j, k, ph%ils + lv) &
+            + max(-0.25_wp, min(0.25_wp, cut%follow * (f - a))) * h
+        end do
+      end do
+    end do
+  end subroutine cut_follow
 
 end module m_gfm_cut
