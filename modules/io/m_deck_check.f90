@@ -333,8 +333,10 @@ contains
       n = 1
       x = 0.0_wp
       do d = 1, nd
-        e = [cfg%lo(d), cfg%hi(d), pack(cfg%bodies(1:nb)%lo(d), box), &
-          pack(cfg%bodies(1:nb)%hi(d), box)]
+        e = [cfg%lo(d), cfg%hi(d)]
+        do b = 1, nb
+          if (box(b)) e = [e, cfg%bodies(b)%lo(d), cfg%bodies(b)%hi(d)]
+        end do
         e = max(cfg%lo(d), min(cfg%hi(d), e))
         n(d) = 0
         do i = 1, size(e)   ! the centre of the span from each edge to the next
