@@ -66,8 +66,8 @@ contains
       'missing required value (give t_end or max_steps)')
     call rule(len_trim(cfg%out_dir) == 0, 'run out_dir', 'missing required value (it is empty)')
     call rule(cfg%rebalance_threshold < 0.0_wp .or. (cfg%rebalance_threshold > 0.0_wp .and. &
-      cfg%rebalance_threshold < 1.0_wp), 'run rebalance_threshold', 'must be 0 (never migrate) or >= 1' &
-      // gr(cfg%rebalance_threshold))
+      cfg%rebalance_threshold < 1.0_wp), 'run rebalance_threshold', 'must be 0 (never migrate) ' &
+      // 'or >= 1' // gr(cfg%rebalance_threshold))
     call check_domain()
     call check_output()
     ! &material: each, then the library entries that the base material and bodies use
