@@ -9,7 +9,7 @@ module m_checkpoint
     h5_read_attr, h5_write_field, h5_read_field, h5_write_text, h5_has_attr, h5_is_hdf5, &
     h5_exists
   use m_errors, only: stop_collective, log_line
-  use m_deck_text, only: base_name, int_text
+  use m_text, only: base_name, int_text
   use m_output, only: step_file_name
   use m_hotspot, only: hot_pack, hot_unpack
   implicit none

@@ -32,7 +32,7 @@ module m_simulation
   use m_timers, only: timers_t, memory_kb, node_memory_kb
   use m_comm, only: comm_rank, comm_size, comm_node_ranks, comm_any, comm_max
   use m_errors, only: stop_collective
-  use m_deck_text, only: base_name, int_text
+  use m_text, only: base_name, int_text
   use m_hotspot, only: hot_t, hot_setup
   implicit none
   private

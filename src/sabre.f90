@@ -6,7 +6,8 @@
 !> Everything the deck points at (its values, the memory it needs, the restart file) is
 !> checked before out_dir is created.
 program sabre
-  use m_kinds, only: wp, path_len
+  use m_kinds, only: wp, path_len, line_len
+  use m_text, only: file_text
   use m_config, only: config_t
   use m_comm, only: comm_init, comm_exit, comm_wtime, comm_rank
   use m_errors, only: log_open, log_close, log_line
@@ -89,16 +90,11 @@ contains
   function resolved_deck_text(path) result(text)
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: text
-    integer :: u, n, ios
+    character(len=line_len) :: msg
+    integer :: ios
     text = ''
-    if (comm_rank() /= 0) return
-    open(newunit=u, file=path, access='stream', form='unformatted', action='read', iostat=ios)
-    if (ios /= 0) return
-    inquire(unit=u, size=n)
-    deallocate(text)
-    allocate(character(len=n) :: text)
-    read(u, iostat=ios) text
-    close(u)
+    msg = ''
+    if (comm_rank() == 0) call file_text(path, text, ios, msg)
   end function resolved_deck_text
 
 end program sabre

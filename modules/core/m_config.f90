@@ -7,11 +7,10 @@
 !> the table calls it optional.
 module m_config
   use m_kinds, only: wp, name_len, path_len, line_len
-  use m_errors, only: fatal
   implicit none
   private
-  public :: config_t, material_t, body_t, unset, is_set, material_index, choice_index
-  public :: max_materials, max_bodies, max_fields
+  public :: config_t, material_t, body_t, unset, is_set, material_index
+  public :: max_materials, max_bodies
 
   real(wp), parameter :: unset = -huge(1.0_wp)
   integer, parameter :: max_materials = 16
@@ -52,7 +51,7 @@ module m_config
     real(wp) :: rebalance_threshold = 1.1_wp   ! max over mean of the ranks' work; 0: never
     integer :: rebalance_every = 100
     ! &domain
-    integer :: ndim = 0, cells(3) = 1, block(3) = 1
+    integer :: ndim = 0, cells(3) = 1, block(3) = 0   ! block 0: chosen (m_deck_check)
     character(len=name_len) :: geometry = 'cartesian', base_material = ''
     real(wp) :: lo(3) = 0.0_wp, hi(3) = 1.0_wp, bc_velocity(3) = 0.0_wp, bc_rise_time = 0.0_wp
     character(len=name_len) :: bc_lo(3) = 'outflow', bc_hi(3) = 'outflow'
@@ -94,12 +93,4 @@ contains
     end do
     k = 0
   end function material_index
-
-  !> The position of name in the choice list names (the names a module exports for a deck
-  !> variable). A name not on the list is a programming error: the deck refuses it.
-  integer function choice_index(names, name, who) result(k)
-    character(len=*), intent(in) :: names(:), name, who
-    k = findloc(names, adjustl(name), 1)
-    if (k == 0) call fatal(who, "unknown name '" // trim(name) // "'")
-  end function choice_index
 end module m_config

@@ -21,7 +21,8 @@
 !> Not here: strength, reaction, mixtures.
 module m_eos
   use m_kinds, only: wp
-  use m_config, only: material_t, is_set, choice_index
+  use m_config, only: material_t, is_set
+  use m_text, only: choice_index
   implicit none
   private
   public :: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial

@@ -16,7 +16,7 @@
 !> ghosts of neighbour blocks are seen too. Kernels only: no MPI, no I/O.
 module m_gfm
   use m_kinds, only: wp, i8
-  use m_config, only: choice_index
+  use m_text, only: choice_index
   use m_layout, only: layout_t, cell_volume
   use m_eos, only: eos_t, eos_energy, eos_sound_speed2, eos_pressure
   use m_elastoplastic, only: primitive_row

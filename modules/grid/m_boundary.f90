@@ -9,7 +9,7 @@
 !> and corners at the domain boundary see the conditions of both sides.
 module m_boundary
   use m_kinds, only: wp
-  use m_config, only: choice_index
+  use m_text, only: choice_index
   use m_layout, only: layout_t, block_neighbor, wall_neighbor
   use m_blocks, only: block_t
   use m_state, only: i_rho, i_mx, i_en, n_euler, stress_index

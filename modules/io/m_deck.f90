@@ -5,25 +5,25 @@
 !> table of m_deck_schema, checked for form, count and index and read into the component its
 !> line points at (repeated &material and &body groups start from defaults); m_deck_check
 !> resolves and checks the whole. deck_prepare_output checks out_dir (earlier results are kept
-!> unless overwrite is set) and restart, creates the folder and writes the resolved deck
-!> there: deck_write_resolved writes every value of the table, defaults filled in, so that
-!> deck_read of it gives back the same configuration bit for bit. No physics (eos/, scene/).
+!> unless overwrite is set), creates the folder and writes the resolved deck there:
+!> deck_write_resolved writes every value of the table, defaults filled in, so that deck_read
+!> of it gives back the same configuration bit for bit. No physics (eos/, scene/).
 module m_deck
   use m_kinds, only: path_len, line_len
   use m_config, only: config_t, max_materials, max_bodies
-  use m_errors, only: stop_collective, fatal
+  use m_errors, only: stop_collective
   use m_comm, only: comm_bcast, comm_is_root
   use m_material_library, only: library_lookup
-  use m_deck_text, only: to_lower, edit_distance, int_text, quoted, in_list, joined, &
-    base_name, dir_name, normal_path
+  use m_text, only: int_text, base_name, normal_path, file_text
+  use m_deck_text, only: to_lower, edit_distance, quoted, in_list, joined, dir_name
   use m_deck_parse, only: deck_var_t, deck_assign_t, deck_group_t, deck_split, first_group, &
     assign_value, value_text
-  use m_deck_schema, only: deck_table, group_table, group_names, var_index, &
-    group_of, fail, fail_now, error_line, deck_errors_begin, deck_errors_stop, deck_error_mark
+  use m_deck_schema, only: deck_table, group_table, group_names, var_index, fail, fail_now, &
+    error_line, deck_errors_begin, deck_errors_stop, deck_error_mark
   use m_deck_check, only: deck_check
   implicit none
   private
-  public :: deck_read, deck_prepare_output, deck_write_resolved
+  public :: deck_read, deck_prepare_output
 
 contains
 
@@ -38,21 +38,14 @@ contains
     character(len=line_len) :: msg
     type(deck_group_t), allocatable :: groups(:)
     type(deck_assign_t), allocatable :: assigns(:)
-    integer :: u, ios, n
+    integer :: ios
 
     base = base_name(path)
     call deck_errors_begin(base)
     text = ''
     ios = 0
     msg = ''
-    if (comm_is_root()) then
-      open(newunit=u, file=trim(path), access='stream', form='unformatted', action='read', &
-        status='old', iostat=ios, iomsg=msg)
-      if (ios == 0) inquire(unit=u, size=n)
-      if (ios == 0) text = repeat(' ', max(n, 0))
-      if (ios == 0 .and. n > 0) read(u, iostat=ios, iomsg=msg) text
-      if (ios == 0) close(u)
-    end if
+    if (comm_is_root()) call file_text(trim(path), text, ios, msg)
     call stop_collective(error_line(base, '', "cannot read the deck file '" // trim(path) &
       // "' (" // trim(msg) // ')', ''), ios == 0)
     call comm_bcast(text, 0)
@@ -63,7 +56,6 @@ contains
       // err_group, err_what, '')
     call apply_overrides(overrides, groups, assigns)
     cfg%deck_file = path
-    cfg%block = 0
     call read_groups(groups, assigns, cfg)
     call deck_check(groups, assigns, cfg)
     call deck_errors_stop()
@@ -222,15 +214,17 @@ contains
   subroutine fail_unknown_var(gname, name, vars)
     character(len=*), intent(in) :: gname, name
     type(deck_var_t), intent(in) :: vars(:)
-    character(len=:), allocatable :: why, other
-    integer :: k, d(size(vars)), best
+    character(len=:), allocatable :: why
+    type(deck_var_t), allocatable :: every(:)
+    integer :: k, d(size(vars)), best, other
     d = [(edit_distance(name, to_lower(trim(vars(k)%name))), k = 1, size(vars))]
     best = minloc(d, 1)
-    other = group_of(name, gname)
+    every = group_table('')   ! the first other group that knows the name
+    other = findloc(to_lower(every%name) == name .and. every%group /= gname, .true., 1)
     if (d(best) < 3) then
       why = 'unknown variable, did you mean ' // trim(vars(best)%name) // '?'
-    else if (len(other) > 0) then
-      why = 'unknown variable here; ' // name // ' belongs in &' // other
+    else if (other > 0) then
+      why = 'unknown variable here; ' // name // ' belongs in &' // trim(every(other)%group)
     else
       why = 'unknown variable (known: ' // joined(vars%name) // ')'
     end if
@@ -241,30 +235,23 @@ contains
 
   !> Check out_dir, create it, and write the resolved deck there (out_dir/deck.nml).
   !> Collective. Results already in out_dir stop the run unless overwrite is set or the
-  !> run restarts from a checkpoint in that same folder (a restart continues a run).
+  !> run restarts from a checkpoint in that same folder (a restart continues a run; that the
+  !> checkpoint is one, output_restart_check of m_checkpoint has made sure before).
   subroutine deck_prepare_output(cfg)
     type(config_t), intent(in) :: cfg
-    character(len=:), allocatable :: base, dir
+    character(len=:), allocatable :: dir
     character(len=2 * path_len + line_len) :: msg
-    logical :: ok, exists, continuing
+    logical :: ok, continuing
     integer :: ios, stat, cmd_stat
     ok = .true.
     msg = ''
     if (comm_is_root()) then
-      base = base_name(cfg%deck_file)
       dir = normal_path(cfg%out_dir)
-      if (len_trim(cfg%restart) > 0) then
-        inquire(file=trim(cfg%restart), exist=exists)
-        if (.not. exists) call refuse('&run restart', "no such checkpoint file '" &
-          // trim(cfg%restart) // "'", "'out/sod/chk_000100.h5'")
-      end if
-      continuing = .false.
-      if (len_trim(cfg%restart) > 0) continuing = (dir_name(cfg%restart) == dir)
-      if (ok .and. .not. cfg%overwrite .and. .not. continuing) then
-        if (holds_results(dir)) call refuse('&run out_dir', "'" // trim(cfg%out_dir) &
+      continuing = len_trim(cfg%restart) > 0 .and. dir_name(cfg%restart) == dir
+      if (.not. continuing .and. .not. cfg%overwrite) then
+        if (holds_results(dir)) call refuse("'" // trim(cfg%out_dir) &
           // "' already holds results (set overwrite = .true. or choose another out_dir)", '')
-      end if
-      if (ok .and. cfg%overwrite .and. .not. continuing) then
+      else if (.not. continuing) then
         ! a fresh run replaces the results it overwrites: an old plot file with a later step
         ! number must not pass for this run's last one
         call execute_command_line('cd ' // quoted(dir, shell=.true.) // ' 2>/dev/null && rm -f ' &
@@ -273,24 +260,24 @@ contains
       if (ok) then
         call execute_command_line('mkdir -p ' // quoted(dir, shell=.true.), exitstat=stat, &
           cmdstat=cmd_stat)
-        if (stat /= 0 .or. cmd_stat /= 0) call refuse('&run out_dir', "cannot create '" &
-          // dir // "' (check the path and permissions)", "'out/sod'")
+        if (stat /= 0 .or. cmd_stat /= 0) call refuse("cannot create '" // dir &
+          // "' (check the path and permissions)", "'out/sod'")
       end if
       if (ok) then
         call deck_write_resolved(cfg, dir // '/deck.nml', ios)
-        if (ios /= 0) call refuse('&run out_dir', "cannot write '" // dir &
-          // "/deck.nml' (check permissions)", "'out/sod'")
+        if (ios /= 0) call refuse("cannot write '" // dir // "/deck.nml' (check permissions)", &
+          "'out/sod'")
       end if
     end if
     call stop_collective(msg, ok)
 
   contains
 
-    subroutine refuse(where, why, typical)
-      character(len=*), intent(in) :: where, why, typical
-      if (.not. ok) return
+    !> the error of out_dir (the first: what would follow it is not tried)
+    subroutine refuse(why, typical)
+      character(len=*), intent(in) :: why, typical
       ok = .false.
-      msg = error_line(base, where, why, typical)
+      msg = error_line(base_name(cfg%deck_file), '&run out_dir', why, typical)
     end subroutine refuse
 
   end subroutine deck_prepare_output
@@ -306,46 +293,35 @@ contains
 
   !> Write cfg as a deck: every group, every variable of the table in its order, defaults
   !> filled in; deck_read gives back the same cfg. Reals left unset on purpose are written as
-  !> comments. Plain I/O on the calling rank; ios (when present) receives the status instead
-  !> of stopping.
+  !> comments. Plain I/O on the calling rank; ios receives the status.
   subroutine deck_write_resolved(cfg, path, ios)
     type(config_t), intent(in) :: cfg
     character(len=*), intent(in) :: path
-    integer, intent(out), optional :: ios
+    integer, intent(out) :: ios
     type(config_t), target, allocatable :: c
     type(deck_var_t), allocatable :: vars(:)
-    character(len=line_len) :: msg
-    integer :: u, stat, i, k, g
-    msg = ''
-    open(newunit=u, file=trim(path), status='replace', action='write', iostat=stat, &
-      iomsg=msg)
-    if (stat == 0) then
-      write(u, '(a)') '! Resolved SABRE deck: every value of ' // trim(cfg%deck_file) &
-        // ' with the defaults filled in.'
-      c = cfg
-      do g = 1, size(group_names)
-        do i = 1, merge(c%n_materials, merge(c%n_bodies, 1, group_names(g) == 'body'), &
-          group_names(g) == 'material')
-          call deck_table(c, c%materials(min(i, max_materials)), c%bodies(min(i, max_bodies)), vars)
-          write(u, '(a)') '&' // trim(group_names(g))
-          do k = 1, size(vars)
-            if (vars(k)%group /= group_names(g)) cycle
-            if (len(value_text(vars(k))) == 0) then
-              write(u, '(a)') '  ! ' // trim(vars(k)%name) // ' is unset'
-            else
-              write(u, '(a)') '  ' // trim(vars(k)%name) // ' = ' // value_text(vars(k))
-            end if
-          end do
-          write(u, '(a)') '/'
+    character(len=:), allocatable :: line
+    integer :: u, i, k, g
+    open(newunit=u, file=trim(path), status='replace', action='write', iostat=ios)
+    if (ios /= 0) return
+    write(u, '(a)') '! Resolved SABRE deck: every value of ' // trim(cfg%deck_file) &
+      // ' with the defaults filled in.'
+    c = cfg
+    do g = 1, size(group_names)
+      do i = 1, merge(c%n_materials, merge(c%n_bodies, 1, group_names(g) == 'body'), &
+        group_names(g) == 'material')
+        call deck_table(c, c%materials(min(i, max_materials)), c%bodies(min(i, max_bodies)), vars)
+        write(u, '(a)') '&' // trim(group_names(g))
+        do k = 1, size(vars)
+          if (vars(k)%group /= group_names(g)) cycle
+          line = '  ' // trim(vars(k)%name) // ' = ' // value_text(vars(k))
+          if (len(value_text(vars(k))) == 0) line = '  ! ' // trim(vars(k)%name) // ' is unset'
+          write(u, '(a)') line
         end do
+        write(u, '(a)') '/'
       end do
-      close(u, iostat=stat, iomsg=msg)
-    end if
-    if (present(ios)) then
-      ios = stat
-    else if (stat /= 0) then
-      call fatal('deck_write_resolved', 'cannot write ' // trim(path) // ': ' // trim(msg))
-    end if
+    end do
+    close(u, iostat=ios)
   end subroutine deck_write_resolved
 
 end module m_deck

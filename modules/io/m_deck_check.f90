@@ -12,11 +12,12 @@
 !> was read (m_deck). It does not interpret the physics (eos/, strength/, scene/).
 module m_deck_check
   use m_kinds, only: wp, name_len
-  use m_config, only: config_t, material_t, is_set, max_materials, max_fields, material_index
+  use m_config, only: config_t, material_t, is_set, max_materials, material_index
   use m_material_library, only: library_lookup, library_names
   use m_yield, only: strength_problem, strength_from_material, strength_model_names
   use m_eos, only: eos_names
-  use m_deck_text, only: int_text, real_text, in_list, to_lower
+  use m_text, only: int_text
+  use m_deck_text, only: real_text, in_list, to_lower
   use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
   use m_deck_schema, only: rule, deck_table, var_index, deck_error_count, deck_has_error, &
     deck_error_mark
@@ -42,8 +43,9 @@ module m_deck_check
     // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
   !> the fields of strength only (deviatoric stress, plastic strain, von Mises stress)
   character(len=*), parameter :: strength_fields = 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
-  character(len=4), parameter :: default_fields(7) = &
-    [character(len=4) :: 'rho', 'u', 'v', 'w', 'p', 'e', 'T']
+  !> the standard output fields; T, eps_p and seq only where they apply (deck_check)
+  character(len=5), parameter :: default_fields(9) = [character(len=5) :: 'rho', 'u', 'v', &
+    'w', 'p', 'e', 'T', 'eps_p', 'seq']
   integer, parameter :: min_block = 4   !< cells: the halo is 4 deep
 
 contains
@@ -54,6 +56,8 @@ contains
     type(deck_assign_t), intent(in) :: assigns(:)
     type(config_t), target, intent(inout) :: cfg
     type(deck_var_t), allocatable :: vars(:)
+    character(len=name_len), allocatable :: kept(:)
+    logical :: temperature
     integer :: i
     ! the values of &run, &domain, &numerics and &output where their table lines allow
     call deck_table(cfg, cfg%materials(1), cfg%bodies(1), vars)
@@ -62,8 +66,8 @@ contains
       'missing required value (give t_end or max_steps)')
     call rule(len_trim(cfg%out_dir) == 0, 'run out_dir', 'missing required value (it is empty)')
     call rule(cfg%rebalance_threshold < 0.0_wp .or. (cfg%rebalance_threshold > 0.0_wp .and. &
-      cfg%rebalance_threshold < 1.0_wp), 'run rebalance_threshold', 'must be 0 (never migrate) or >= 1' &
-      // gr(cfg%rebalance_threshold))
+      cfg%rebalance_threshold < 1.0_wp), 'run rebalance_threshold', 'must be 0 (never migrate) ' &
+      // 'or >= 1' // gr(cfg%rebalance_threshold))
     call check_domain()
     call check_output()
     ! &material: each, then the library entries that the base material and bodies use
@@ -79,8 +83,16 @@ contains
       if (len_trim(cfg%bodies(i)%material) > 0) call use_material('body material', &
         cfg%bodies(i)%material, 'void, rigid')
     end do
-    call check_gas_needs()
+    call check_gas_needs(temperature)
     call check_physics()
+    ! fields not given: the standard ones, T where every gas in use has a cv, the plastic
+    ! strain and von Mises stress where strength is on
+    if (.not. given('output', 'fields')) then
+      kept = pack(default_fields, [(.true., i = 1, 6), temperature, cfg%strength, cfg%strength])
+      cfg%n_fields = size(kept)
+      cfg%fields = ''
+      cfg%fields(1:size(kept)) = kept
+    end if
     call check_bodies()
     call numerics_defaults(cfg, cfg%numerics_note)
 
@@ -155,24 +167,21 @@ contains
         // trim(cfg%bc_lo(1)) // "'")
     end subroutine check_domain
 
+    !> The fields given (the blanks between them dropped), or the default ones.
     subroutine check_output()
-      character(len=name_len) :: kept(max_fields)
-      integer :: k, n
-      n = 0
-      kept = ''
-      do k = 1, max_fields
-        if (len_trim(cfg%fields(k)) == 0) cycle
-        call rule(.not. in_list(cfg%fields(k), field_names), 'output fields', "unknown field '" &
-          // trim(cfg%fields(k)) // "' (allowed: " // field_names // ')')
-        call rule(any(kept(1:n) == cfg%fields(k)), 'output fields', "field '" &
-          // trim(cfg%fields(k)) // "' is listed twice")
-        n = n + 1
-        kept(n) = cfg%fields(k)
+      character(len=name_len), allocatable :: kept(:)
+      integer :: k
+      kept = pack(cfg%fields, cfg%fields /= '')
+      do k = 1, size(kept)
+        call rule(.not. in_list(kept(k), field_names), 'output fields', "unknown field '" &
+          // trim(kept(k)) // "' (allowed: " // field_names // ')')
+        call rule(any(kept(1:k - 1) == kept(k)), 'output fields', "field '" // trim(kept(k)) &
+          // "' is listed twice")
       end do
-      if (n == 0) kept(1:size(default_fields)) = default_fields
-      if (n == 0) n = size(default_fields)
-      cfg%n_fields = n
-      cfg%fields = kept
+      if (size(kept) == 0) kept = default_fields(1:7)   ! (fields = '' given: the first seven)
+      cfg%n_fields = size(kept)
+      cfg%fields = ''
+      cfg%fields(1:size(kept)) = kept
     end subroutine check_output
 
     !> One material: its eos and the values that eos needs, its strength model (defaults
@@ -268,13 +277,15 @@ contains
     !> out of the default fields otherwise); rho0 (p0) where the gas fills cells whose state
     !> no body gives: a body of it without rho (without p or T), the base material outside
     !> boxes of it that tile the domain, and every phase of a scene with level sets.
-    subroutine check_gas_needs()
+    !> temperature: whether every gas in use has a cv.
+    subroutine check_gas_needs(temperature)
+      logical, intent(out) :: temperature
       character(len=:), allocatable :: in_m, why_t, why_rho, why_p, what
-      logical :: fields_given, interfaces, drop_t
+      logical :: fields_given, interfaces
       integer :: k, i
       fields_given = given('output', 'fields')
       interfaces = any(cfg%bodies(1:cfg%n_bodies)%material /= cfg%base_material)
-      drop_t = .false.
+      temperature = .true.
       do k = 1, cfg%n_materials
         associate(m => cfg%materials(k))
           if (.not. in_list(m%eos, gas_eoses) .or. .not. material_used(m%name)) cycle
@@ -299,20 +310,13 @@ contains
           end do
           call rule(.not. is_set(m%cv) .and. len(why_t) > 0, 'material cv', what // ' (' &
             // why_t // ' needs a temperature)')
-          if (.not. is_set(m%cv)) drop_t = .true.
+          if (.not. is_set(m%cv)) temperature = .false.
           call rule(.not. is_set(m%rho0) .and. len(why_rho) > 0, 'material rho0', what &
             // ' (for ' // why_rho // ')')
           call rule(.not. is_set(m%p0) .and. len(why_p) > 0, 'material p0', what // ' (for ' &
             // why_p // ')')
         end associate
       end do
-      ! the default fields without a temperature that some gas in use cannot give
-      if (drop_t .and. .not. fields_given) then
-        cfg%fields(1:cfg%n_fields - 1) = pack(cfg%fields(1:cfg%n_fields), &
-          cfg%fields(1:cfg%n_fields) /= 'T')
-        cfg%fields(cfg%n_fields) = ''
-        cfg%n_fields = cfg%n_fields - 1
-      end if
     end subroutine check_gas_needs
 
     !> Whether the boxes of the base material (bodies that only set its initial state) cover
@@ -382,12 +386,6 @@ contains
         // 'material in use softens with temperature (johnson_cook) or heats by plastic ' &
         // 'work (taylor_quinney > 0) (leave thermal out: it is on exactly when a material ' &
         // 'needs it)')
-      ! the default fields of a scene with strength show its plastic strain and stress too
-      if (cfg%strength .and. .not. given('output', 'fields')) then
-        cfg%fields(cfg%n_fields + 1:cfg%n_fields + 2) = [character(len=name_len) :: 'eps_p', &
-          'seq']
-        cfg%n_fields = cfg%n_fields + 2
-      end if
       do k = 1, cfg%n_fields
         call rule(.not. cfg%strength .and. in_list(cfg%fields(k), strength_fields), &
           'output fields', "field '" // trim(cfg%fields(k)) // "' needs strength, which is " &

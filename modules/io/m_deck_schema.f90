@@ -11,7 +11,7 @@
 !> has had an error gets no second one. fail_now() is for an error after which nothing more
 !> can be read. The list is module state, emptied by deck_errors_begin().
 module m_deck_schema
-  use m_kinds, only: wp, name_len
+  use m_kinds, only: wp
   use m_config, only: config_t, material_t, body_t
   use m_errors, only: stop_collective
   use m_deck_text, only: to_lower, joined
@@ -24,7 +24,7 @@ module m_deck_schema
   use m_yield, only: strength_model_names
   implicit none
   private
-  public :: deck_table, group_table, group_names, var_index, group_of
+  public :: deck_table, group_table, group_names, var_index
   public :: fail, fail_now, rule, error_line, deck_errors_begin, deck_errors_stop
   public :: deck_error_count, deck_error_mark, deck_has_error
 
@@ -193,35 +193,20 @@ contains
     allocate(vars, source=t%v(1:t%n))
   end subroutine deck_table
 
-  !> The lines of group gname, bound to a configuration kept for the purpose.
+  !> The lines of group gname (every line for ''), bound to a configuration kept for the
+  !> purpose.
   function group_table(gname) result(vars)
     character(len=*), intent(in) :: gname
-    type(deck_var_t), allocatable :: vars(:), every(:)
-    call deck_table(proto, proto%materials(1), proto%bodies(1), every)
-    vars = pack(every, every%group == gname)
+    type(deck_var_t), allocatable :: vars(:)
+    call deck_table(proto, proto%materials(1), proto%bodies(1), vars)
+    if (len(gname) > 0) vars = pack(vars, vars%group == gname)
   end function group_table
 
   integer function var_index(vars, name) result(k)
     type(deck_var_t), intent(in) :: vars(:)
     character(len=*), intent(in) :: name
-    do k = 1, size(vars)
-      if (to_lower(trim(vars(k)%name)) == name) return
-    end do
-    k = 0
+    k = findloc(to_lower(vars%name), name, 1)
   end function var_index
-
-  !> The first other group that knows a variable called name, or ''.
-  function group_of(name, except) result(r)
-    character(len=*), intent(in) :: name, except
-    character(len=:), allocatable :: r
-    integer :: k
-    do k = 1, size(group_names)
-      r = trim(group_names(k))
-      if (r == except) cycle
-      if (var_index(group_table(r), name) > 0) return
-    end do
-    r = ''
-  end function group_of
 
   !> A table line binding name to the component x (a scalar or an array of real, integer,
   !> logical or string); with choices a keyword (lower-cased, one of them; empty too when
@@ -350,13 +335,9 @@ contains
     integer :: blank, k
     if (.not. prohibited) return
     blank = index(var // ' ', ' ')
-    vars = group_table(var(1:blank - 1))
+    vars = [group_table(var(1:blank - 1)), deck_var_t()]   ! (the last for no name or another)
     k = var_index(vars, to_lower(var(blank + 1:index(var // '(', '(') - 1)))
-    if (k > 0) then
-      call fail('&' // var, why, vars(k)%typical)
-    else
-      call fail('&' // var, why, '')
-    end if
+    call fail('&' // var, why, vars(merge(k, size(vars), k > 0))%typical)
   end subroutine rule
 
 end module m_deck_schema

@@ -1,15 +1,15 @@
 !> The small text helpers of the deck modules (DESIGN section 6): lower case, the edit
-!> distance behind "did you mean" hints, integers and reals as deck text (a real in the
-!> shortest form that reads back bit for bit), quoting for a deck or for the shell,
-!> membership of a list written 'a, b, c', and path names. Text in,
+!> distance behind "did you mean" hints, reals as deck text (in the shortest form that reads
+!> back bit for bit), quoting for a deck or for the shell, lists written 'a, b, c', and the
+!> folder of a path (the helpers the rest of the code uses too are core/m_text's). Text in,
 !> text out: it knows nothing of groups, variables or the configuration, does no I/O and
 !> never stops the run.
 module m_deck_text
   use m_kinds, only: wp, i8
+  use m_text, only: int_text, normal_path
   implicit none
   private
-  public :: to_lower, edit_distance, int_text, real_text, quoted
-  public :: in_list, joined, base_name, dir_name, normal_path
+  public :: to_lower, edit_distance, real_text, quoted, in_list, joined, dir_name
 
 contains
 
@@ -47,14 +47,6 @@ contains
     d = m(len(a), len(b))
   end function edit_distance
 
-  function int_text(i) result(r)
-    integer, intent(in) :: i
-    character(len=:), allocatable :: r
-    character(len=16) :: buf
-    write(buf, '(i0)') i
-    r = trim(buf)
-  end function int_text
-
   !> The shortest decimal text that reads back as exactly x, e.g. 0.2, 101325.0, 6.0e8,
   !> 1.0e-7: deck files stay readable and the resolved deck round-trips bit for bit.
   function real_text(x) result(r)
@@ -78,12 +70,8 @@ contains
     buf = adjustl(buf)
     e_at = index(buf, 'E')
     read(buf(e_at + 1:), *) ex
-    digits = buf(1:1)
-    if (e_at > 3) digits = digits // buf(3:e_at - 1)
-    do while (len(digits) > 1)
-      if (digits(len(digits):len(digits)) /= '0') exit
-      digits = digits(1:len(digits) - 1)
-    end do
+    digits = buf(1:1) // buf(3:e_at - 1)   ! (without the trailing zeros)
+    digits = digits(1:max(1, verify(digits, '0', back=.true.)))
     if (ex >= 0 .and. ex <= 6) then
       if (len(digits) <= ex + 1) then
         r = digits // repeat('0', ex + 1 - len(digits)) // '.0'
@@ -136,35 +124,11 @@ contains
     end do
   end function joined
 
-  !> The last component of a path ('decks/sod.nml' -> 'sod.nml').
-  function base_name(path) result(r)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable :: r
-    r = normal_path(path)
-    if (len(r) > 1) r = r(index(r, '/', back=.true.) + 1:)
-  end function base_name
-
   !> The folder part of a path, normalised ('./a//b/c.h5' -> 'a/b', 'c.h5' -> '.').
   function dir_name(path) result(r)
     character(len=*), intent(in) :: path
     character(len=:), allocatable :: r
     r = normal_path(path(1:index(trim(path), '/', back=.true.)))
   end function dir_name
-
-  !> A path written one way only: no '//', no '/./', no leading './', no trailing '/'.
-  function normal_path(path) result(r)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable :: r, rest
-    integer :: k
-    rest = trim(adjustl(path)) // '/'
-    r = repeat('/', merge(1, 0, rest(1:1) == '/' .and. len(rest) > 1))
-    do while (len(rest) > 0)   ! each component but '' and '.'
-      k = index(rest, '/')
-      if (k > 1 .and. rest(1:k - 1) /= '.') r = r // rest(1:k - 1) // '/'
-      rest = rest(k + 1:)
-    end do
-    if (len(r) > 1) r = r(1:len(r) - 1)
-    if (len(r) == 0) r = '.'
-  end function normal_path
 
 end module m_deck_text

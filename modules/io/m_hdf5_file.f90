@@ -14,7 +14,7 @@ module m_hdf5_file
     h5tset_strpad_f, h5tget_class_f, H5T_NATIVE_CHARACTER, H5T_STR_NULLPAD_F, H5T_STRING_F
   use m_comm, only: comm_world_handles
   use m_errors, only: fatal
-  use m_deck_text, only: int_text
+  use m_text, only: int_text
   implicit none
   private
   public :: h5_file_t, h5_init, h5_finalize, h5_create_file, h5_open_read, h5_close

@@ -9,7 +9,7 @@
 module m_flux
   use m_kinds, only: wp
   use m_state, only: i_epsp
-  use m_config, only: choice_index
+  use m_text, only: choice_index
   implicit none
   private
   public :: flux_llf, flux_hllc, flux_from_name, flux_kind_llf, flux_kind_hllc, face_flux

@@ -8,7 +8,7 @@
 !> manual/theory.md 5.1e). Kernels only: arrays in, arrays out, no state.
 module m_reconstruct
   use m_kinds, only: wp
-  use m_config, only: choice_index
+  use m_text, only: choice_index
   implicit none
   private
   public :: scheme_eno1, scheme_eno2, scheme_eno3, scheme_weno5, scheme_from_name, scheme_names

@@ -8,7 +8,7 @@
 !> A NaN never passes. int_text writes an integer for a message.
 module m_test_check
   use m_kinds, only: wp, i8
-  use m_deck_text, only: int_text
+  use m_text, only: int_text
   use m_comm, only: comm_rank, comm_size, comm_sum, comm_exit, comm_is_root
   implicit none
   private
