@@ -11,11 +11,12 @@
 !> run.json. m_rebalance decides and moves the blocks. Knows nothing of physics.
 module m_balance
   use m_kinds, only: wp
-  use m_comm, only: comm_wtime
+  use m_comm, only: comm_wtime, comm_wait_seconds
   implicit none
   private
   public :: balance_t, balance_start, balance_imbalance, balance_loads, balance_weights, &
-    balance_relabel, balance_note, balance_note_move, balance_now, balance_add
+    balance_relabel, balance_note, balance_note_move, balance_now, balance_add, &
+    balance_rank_work
 
   !> A migration must remove at least this part of the measured excess imbalance (its
   !> prediction, on the measured block costs): a re-partition that the blocks' sizes cannot
@@ -30,8 +31,11 @@ module m_balance
     integer :: every = 0                !< steps between checks
     real(wp), allocatable :: cost(:)    !< (local block) processor seconds since the last check
     real(wp), allocatable :: wall(:)    !< (local block) wall seconds of the same work
+    !> this rank's processor time and time waiting in blocking calls at the last check
+    real(wp) :: mark(2) = 0.0_wp
     !> the record: per check (step, measured imbalance, the largest and the mean rank's
-    !> work in seconds, the imbalance of the wall times), and per migration (step, blocks
+    !> work in seconds, the imbalance of the wall times, the imbalance of all the ranks'
+    !> own work: balance_rank_work), and per migration (step, blocks
     !> moved, imbalance measured before, predicted after, seconds); steps and counts are
     !> held exactly as reals
     integer :: nchecks = 0, nmoves = 0
@@ -45,12 +49,24 @@ contains
   subroutine balance_start(bal, nlocal)
     type(balance_t), intent(inout) :: bal
     integer, intent(in) :: nlocal
-    if (.not. allocated(bal%checks)) allocate(bal%checks(5, 16), bal%moves(5, 16))
+    if (.not. allocated(bal%checks)) allocate(bal%checks(6, 16), bal%moves(5, 16))
     if (allocated(bal%cost)) deallocate(bal%cost, bal%wall)
     allocate(bal%cost(nlocal), bal%wall(nlocal))
     bal%cost = 0.0_wp
     bal%wall = 0.0_wp
+    call cpu_time(bal%mark(1))
+    bal%mark(2) = comm_wait_seconds()
   end subroutine balance_start
+
+  !> This rank's own work since the last check, in processor seconds: all of it (the
+  !> blocks' stage work, and what is not per block: ghost fill, reinitialisation, halo
+  !> packing, side conditions, the time step, output) less the time spent waiting in
+  !> blocking calls (m_comm's waiting clock), where a rank waits for the others.
+  real(wp) function balance_rank_work(bal) result(w)
+    type(balance_t), intent(in) :: bal
+    call cpu_time(w)
+    w = (w - bal%mark(1)) - (comm_wait_seconds() - bal%mark(2))
+  end function balance_rank_work
 
   !> The clocks a block's work is measured with: [processor time of this process, wall time].
   function balance_now() result(t)
@@ -165,14 +181,14 @@ contains
   end subroutine balance_relabel
 
   !> Record a check: its step, the measured imbalance, the largest and the mean of the
-  !> ranks' work (s) and the imbalance of the wall times.
-  subroutine balance_note(bal, step, imbalance, load, imbalance_wall)
+  !> ranks' work (s), the imbalance of the wall times and of the ranks' own work.
+  subroutine balance_note(bal, step, imbalance, load, imbalance_wall, imbalance_all)
     type(balance_t), intent(inout) :: bal
     integer, intent(in) :: step
-    real(wp), intent(in) :: imbalance, load(:), imbalance_wall
+    real(wp), intent(in) :: imbalance, load(:), imbalance_wall, imbalance_all
     bal%nchecks = bal%nchecks + 1
     call grow(bal%checks, bal%nchecks, [real(step, wp), imbalance, maxval(load), &
-      sum(load) / size(load), imbalance_wall])
+      sum(load) / size(load), imbalance_wall, imbalance_all])
   end subroutine balance_note
 
   !> Record a migration: its step, the blocks moved, the imbalance measured before and
