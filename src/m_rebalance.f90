@@ -23,8 +23,8 @@ module m_rebalance
   use m_euler, only: cut_faces_t
   use m_halo, only: halo_plan_build
   use m_partition, only: partition_owner
-  use m_balance, only: balance_imbalance, balance_weights, balance_relabel, balance_start, &
-    balance_note, balance_note_move, balance_gain
+  use m_balance, only: balance_imbalance, balance_loads, balance_rank_work, balance_weights, &
+    balance_relabel, balance_start, balance_note, balance_note_move, balance_gain
   use m_comm, only: comm_rank, comm_size, comm_sum_array, comm_bcast, comm_is_root, &
     comm_max, comm_wtime, comm_exchange_t, exchange_setup, exchange_start, exchange_wait
   use m_errors, only: log_line
@@ -53,7 +53,8 @@ contains
   !> the threshold. Every rank calls it after every step.
   subroutine rebalance_check(sim)
     type(sim_t), intent(inout) :: sim
-    real(wp), allocatable :: cost(:)
+    real(wp), allocatable :: cost(:), wall(:)
+    real(wp), allocatable :: rank_work(:)
     integer, allocatable :: owner(:)
     real(wp) :: measured, predicted, t0, seconds
     integer :: b, np, moved, r
@@ -62,18 +63,28 @@ contains
     if (sim%bal%every <= 0) return
     np = comm_size()
     if (np == 1 .or. mod(sim%clk%step, sim%bal%every) /= 0) return
-    allocate(cost(sim%lay%nblocks), owner(sim%lay%nblocks))
+    allocate(cost(sim%lay%nblocks), wall(sim%lay%nblocks), owner(sim%lay%nblocks))
     cost = 0.0_wp
+    wall = 0.0_wp
     do b = 1, size(sim%blocks)
       cost(sim%blocks(b)%id) = sim%bal%cost(b)
+      wall(sim%blocks(b)%id) = sim%bal%wall(b)
     end do
     ! one non-zero term per entry: the same table on every rank
+    allocate(rank_work(0:np - 1))
+    rank_work = 0.0_wp
+    rank_work(comm_rank()) = balance_rank_work(sim%bal)
     call comm_sum_array(cost)
+    call comm_sum_array(wall)
+    call comm_sum_array(rank_work)
     measured = balance_imbalance(sim%lay%owner, cost, np)
-    call balance_note(sim%bal, sim%clk%step, measured)
-    write(line, '(a,i0,a,f7.3,a,i0,a,f10.3,a)') 'balance: step ', sim%clk%step, &
-      ', imbalance ', measured, ' (max over mean of the ranks'' work over ', sim%bal%every, &
-      ' steps; ', sum(cost), ' s in all)'
+    call balance_note(sim%bal, sim%clk%step, measured, &
+      balance_loads(sim%lay%owner, cost, np), balance_imbalance(sim%lay%owner, wall, np), &
+      maxval(rank_work) / max(sum(rank_work) / np, tiny(1.0_wp)))
+    write(line, '(a,i0,a,f7.3,a,i0,a,f10.3,a,f7.3,a,f7.3,a)') 'balance: step ', &
+      sim%clk%step, ', imbalance ', measured, ' (max over mean of the ranks'' work over ', &
+      sim%bal%every, ' steps; ', sum(cost), ' s in all; wall times ', &
+      sim%bal%checks(5, sim%bal%nchecks), '; all work ', sim%bal%checks(6, sim%bal%nchecks), ')'
     call log_line(line)
     if (sim%bal%threshold > 0.0_wp .and. measured > sim%bal%threshold) then
       call partition_owner(sim%lay, balance_weights(cost, sim%lay%active), owner)

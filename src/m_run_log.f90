@@ -178,6 +178,10 @@ contains
           sum(s%bal%moves(5, 1:nm)), ' s)'
       end associate
       call log_line(line)
+      write(line, '(a,f10.3,a,f10.3,a)') 'balance: stage work over the checks, largest ' // &
+        'rank ', sum(s%bal%checks(3, 1:s%bal%nchecks)), ' s, mean ', &
+        sum(s%bal%checks(4, 1:s%bal%nchecks)), ' s (processor time)'
+      call log_line(line)
     end if
     write(line, '(a,f10.1,a,f10.1,a,f8.1,a)') 'memory: peak resident ', f%peak / 1024**2, &
       ' MB over all ranks (', f%base / 1024**2, ' MB before the grid), ', f%per_cell, &

@@ -377,6 +377,13 @@ contains
         call json_put(jj, 'imbalance_last', s%bal%checks(2, n))
         call json_put_array(jj, 'check_steps', nint(s%bal%checks(1, 1:n)))
         call json_put_array(jj, 'imbalance', s%bal%checks(2, 1:n))
+        ! the critical path of the stage work (sum over checks of the largest rank's) and
+        ! its ideal (of the mean), processor seconds; the imbalance of the wall times
+        call json_put(jj, 'work_max_seconds', sum(s%bal%checks(3, 1:n)))
+        call json_put(jj, 'work_mean_seconds', sum(s%bal%checks(4, 1:n)))
+        call json_put_array(jj, 'imbalance_wall', s%bal%checks(5, 1:n))
+        ! the ranks' own work of every kind (processor time less waits: m_balance)
+        call json_put_array(jj, 'imbalance_all', s%bal%checks(6, 1:n))
       end if
       call json_put(jj, 'migrations', nm)
       if (nm > 0) then

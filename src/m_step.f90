@@ -14,7 +14,8 @@ module m_step
   use m_fallback, only: find_trouble
   use m_levelset_motion, only: levelset_rates
   use m_gfm_stage, only: ghost_fluid_fill, phase_rhs, phase_corrections, phase_states, states_end
-  use m_comm, only: comm_any, comm_sum, comm_wtime
+  use m_comm, only: comm_any, comm_sum
+  use m_balance, only: balance_now, balance_add
   use m_timers, only: timer_start, timer_stop
   implicit none
   private
@@ -33,7 +34,7 @@ contains
     type(sim_t), intent(inout) :: sim
     integer :: stage, b, nbad, nf
     logical :: edge, failed, wall(2, 3)
-    real(wp) :: t, vwall(2, 3), t_block
+    real(wp) :: t, vwall(2, 3), t_block(2)
     nf = 0
     failed = .false.
     sim%diag%step_failed = .false.
@@ -67,7 +68,7 @@ contains
             if (stage == 1) blk%q0 = blk%q(1:n(1), 1:n(2), 1:n(3), :)
             cycle
           end if
-          t_block = comm_wtime()
+          t_block = balance_now()
           call boundary_walls(sim%lay, sim%bc, blk, t, wall, vwall)
           ! the stage input, for the cell-local fallback (at stage 1 it is q0, kept anyway)
           if (stage > 1) sim%wk%qsave = blk%q(1:n(1), 1:n(2), 1:n(3), :)
@@ -88,7 +89,7 @@ contains
             sim%diag%cells_low = sim%diag%cells_low + nbad
           end if
           ! the block's work, for the load balance (m_balance)
-          sim%bal%cost(b) = sim%bal%cost(b) + (comm_wtime() - t_block)
+          call balance_add(sim%bal, b, t_block)
         end associate
       end do
       call timer_stop(sim%timers, 'fluxes')

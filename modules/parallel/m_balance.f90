@@ -1,17 +1,22 @@
 !> The measure of load balance (DESIGN section 3, manual/scale.md). The work of a block is
-!> the wall time it spends in the stage work of the steps since the last check (its fluxes,
-!> sources, ghost-fluid faces, level-set rates, stage update and cell fallback: m_step times
-!> it); the work of a rank is the sum over its blocks, and the imbalance is the largest
-!> rank's work over the mean. This module turns measured block seconds into METIS weights,
+!> the processor time it spends in the stage work of the steps since the last check (its
+!> fluxes, sources, ghost-fluid faces, level-set rates, stage update and cell fallback: m_step
+!> times it with balance_now and balance_add); the work of a rank is the sum over its blocks,
+!> and the imbalance is the largest rank's work over the mean. Processor time, not wall time:
+!> a rank that the system takes off its core for another program (a shared node) is not
+!> charged for the time it did not run, so the measure is the code's own balance; the wall
+!> time of the same work is kept beside it for the record. This module turns measured block seconds into METIS weights,
 !> computes the imbalance of any owner map for them (the one in use: measured; a proposed
 !> one: predicted), and keeps the record of every check and migration for run.log and
 !> run.json. m_rebalance decides and moves the blocks. Knows nothing of physics.
 module m_balance
   use m_kinds, only: wp
+  use m_comm, only: comm_wtime, comm_wait_seconds
   implicit none
   private
-  public :: balance_t, balance_start, balance_imbalance, balance_weights, balance_relabel, &
-    balance_note, balance_note_move
+  public :: balance_t, balance_start, balance_imbalance, balance_loads, balance_weights, &
+    balance_relabel, balance_note, balance_note_move, balance_now, balance_add, &
+    balance_rank_work
 
   !> A migration must remove at least this part of the measured excess imbalance (its
   !> prediction, on the measured block costs): a re-partition that the blocks' sizes cannot
@@ -24,8 +29,13 @@ module m_balance
   type :: balance_t
     real(wp) :: threshold = 0.0_wp      !< migrate when the imbalance passes it (0: off)
     integer :: every = 0                !< steps between checks
-    real(wp), allocatable :: cost(:)    !< (local block) seconds of work since the last check
-    !> the record: per check (step, measured imbalance), and per migration (step, blocks
+    real(wp), allocatable :: cost(:)    !< (local block) processor seconds since the last check
+    real(wp), allocatable :: wall(:)    !< (local block) wall seconds of the same work
+    !> this rank's processor time and time waiting in blocking calls at the last check
+    real(wp) :: mark(2) = 0.0_wp
+    !> the record: per check (step, measured imbalance, the largest and the mean rank's
+    !> work in seconds, the imbalance of the wall times, the imbalance of all the ranks'
+    !> own work: balance_rank_work), and per migration (step, blocks
     !> moved, imbalance measured before, predicted after, seconds); steps and counts are
     !> held exactly as reals
     integer :: nchecks = 0, nmoves = 0
@@ -39,11 +49,42 @@ contains
   subroutine balance_start(bal, nlocal)
     type(balance_t), intent(inout) :: bal
     integer, intent(in) :: nlocal
-    if (.not. allocated(bal%checks)) allocate(bal%checks(2, 16), bal%moves(5, 16))
-    if (allocated(bal%cost)) deallocate(bal%cost)
-    allocate(bal%cost(nlocal))
+    if (.not. allocated(bal%checks)) allocate(bal%checks(6, 16), bal%moves(5, 16))
+    if (allocated(bal%cost)) deallocate(bal%cost, bal%wall)
+    allocate(bal%cost(nlocal), bal%wall(nlocal))
     bal%cost = 0.0_wp
+    bal%wall = 0.0_wp
+    call cpu_time(bal%mark(1))
+    bal%mark(2) = comm_wait_seconds()
   end subroutine balance_start
+
+  !> This rank's own work since the last check, in processor seconds: all of it (the
+  !> blocks' stage work, and what is not per block: ghost fill, reinitialisation, halo
+  !> packing, side conditions, the time step, output) less the time spent waiting in
+  !> blocking calls (m_comm's waiting clock), where a rank waits for the others.
+  real(wp) function balance_rank_work(bal) result(w)
+    type(balance_t), intent(in) :: bal
+    call cpu_time(w)
+    w = (w - bal%mark(1)) - (comm_wait_seconds() - bal%mark(2))
+  end function balance_rank_work
+
+  !> The clocks a block's work is measured with: [processor time of this process, wall time].
+  function balance_now() result(t)
+    real(wp) :: t(2)
+    call cpu_time(t(1))
+    t(2) = comm_wtime()
+  end function balance_now
+
+  !> Add the work since t0 (from balance_now) to local block b's account.
+  subroutine balance_add(bal, b, t0)
+    type(balance_t), intent(inout) :: bal
+    integer, intent(in) :: b
+    real(wp), intent(in) :: t0(2)
+    real(wp) :: t(2)
+    t = balance_now()
+    bal%cost(b) = bal%cost(b) + (t(1) - t0(1))
+    bal%wall(b) = bal%wall(b) + (t(2) - t0(2))
+  end subroutine balance_add
 
   !> Largest over mean of the ranks' work for owner(id) in 0..nparts-1 (inactive blocks -1)
   !> and block work cost(id); 1 when there is no work. The sums run in block order, so every
@@ -52,14 +93,22 @@ contains
     integer, intent(in) :: owner(:), nparts
     real(wp), intent(in) :: cost(:)
     real(wp) :: load(0:nparts - 1)
+    load = balance_loads(owner, cost, nparts)
+    r = 1.0_wp
+    if (sum(load) > 0.0_wp) r = maxval(load) / (sum(load) / nparts)
+  end function balance_imbalance
+
+  !> The work of each rank 0..nparts-1: the sum of its blocks' cost(id), in block order.
+  function balance_loads(owner, cost, nparts) result(load)
+    integer, intent(in) :: owner(:), nparts
+    real(wp), intent(in) :: cost(:)
+    real(wp) :: load(0:nparts - 1)
     integer :: id
     load = 0.0_wp
     do id = 1, size(owner)
       if (owner(id) >= 0) load(owner(id)) = load(owner(id)) + cost(id)
     end do
-    r = 1.0_wp
-    if (sum(load) > 0.0_wp) r = maxval(load) / (sum(load) / nparts)
-  end function balance_imbalance
+  end function balance_loads
 
   !> METIS vertex weights (>= 1) from the measured block seconds: the total is scaled to
   !> about weight_scale units, so a dormant block (next to no work) weighs 1.
@@ -131,13 +180,15 @@ contains
     end do
   end subroutine balance_relabel
 
-  !> Record a check: its step and the measured imbalance.
-  subroutine balance_note(bal, step, imbalance)
+  !> Record a check: its step, the measured imbalance, the largest and the mean of the
+  !> ranks' work (s), the imbalance of the wall times and of the ranks' own work.
+  subroutine balance_note(bal, step, imbalance, load, imbalance_wall, imbalance_all)
     type(balance_t), intent(inout) :: bal
     integer, intent(in) :: step
-    real(wp), intent(in) :: imbalance
+    real(wp), intent(in) :: imbalance, load(:), imbalance_wall, imbalance_all
     bal%nchecks = bal%nchecks + 1
-    call grow(bal%checks, bal%nchecks, [real(step, wp), imbalance])
+    call grow(bal%checks, bal%nchecks, [real(step, wp), imbalance, maxval(load), &
+      sum(load) / size(load), imbalance_wall, imbalance_all])
   end subroutine balance_note
 
   !> Record a migration: its step, the blocks moved, the imbalance measured before and

@@ -16,27 +16,32 @@ module m_comm
   use m_comm_backend, only: comm_backend_name, backend_init, backend_finalize, &
     backend_barrier, backend_max, backend_sum_real, backend_sum_int8, &
     backend_bcast_int, backend_bcast_real, backend_bcast_logical, backend_bcast_chars, &
-    backend_abort, comm_exchange_t, exchange_setup, exchange_start, exchange_wait
+    backend_abort, comm_exchange_t, exchange_setup, exchange_start, &
+    backend_exchange_wait => exchange_wait
   implicit none
   private
   public :: comm_init, comm_finalize, comm_rank, comm_size, comm_is_root, comm_barrier
   public :: comm_min, comm_max, comm_sum, comm_sum_array, comm_sum_by_key, comm_any
   public :: comm_minloc_rank
   public :: comm_bcast, comm_abort, comm_exit, comm_wtime, comm_world_handles, comm_node_ranks
-  public :: comm_backend_name
+  public :: comm_backend_name, comm_wait_seconds
   public :: comm_exchange_t, exchange_setup, exchange_start, exchange_wait
 
   integer :: my_rank = 0
   integer :: n_ranks = 1
+  !> processor seconds this process spent in the blocking calls (halo waits, reductions)
+  !> since it started: a clock that only runs while waiting; its users take differences
+  !> (m_rebalance: the rank's own work is its processor time less this)
+  real(wp) :: waiting = 0.0_wp
 
   interface comm_min
     module procedure comm_min_real, comm_min_int
   end interface comm_min
   interface comm_max
-    module procedure backend_max, comm_max_int
+    module procedure comm_max_real, comm_max_int
   end interface comm_max
   interface comm_sum
-    module procedure comm_sum_real, backend_sum_int8
+    module procedure comm_sum_real, comm_sum_int8
   end interface comm_sum
   interface comm_bcast
     module procedure comm_bcast_string, comm_bcast_int, backend_bcast_int, &
@@ -105,17 +110,65 @@ contains
     comm_wtime = MPI_Wtime()
   end function comm_wtime
 
-  !> min, and the integers, from the back end's one real max: negation is exact, and so is
-  !> a 32-bit integer as a double.
+  !> Processor seconds spent waiting in blocking calls so far (a clock: take differences).
+  real(wp) function comm_wait_seconds()
+    comm_wait_seconds = waiting
+  end function comm_wait_seconds
+
+  !> Add the processor time since t0 (cpu_time) to the waiting clock.
+  subroutine waited(t0)
+    real(wp), intent(in) :: t0
+    real(wp) :: t
+    call cpu_time(t)
+    waiting = waiting + (t - t0)
+  end subroutine waited
+
+  !> The halo exchange's wait, timed for the waiting clock.
+  subroutine exchange_wait(ex, recvbuf)
+    type(comm_exchange_t), intent(inout) :: ex
+    real(wp), intent(inout), asynchronous :: recvbuf(:, :)
+    real(wp) :: t0
+    call cpu_time(t0)
+    call backend_exchange_wait(ex, recvbuf)
+    call waited(t0)
+  end subroutine exchange_wait
+
+  !> The one real max of the back end, timed; min and the integers come from it: negation
+  !> is exact, and so is a 32-bit integer as a double.
+  real(wp) function comm_max_real(x) result(r)
+    real(wp), intent(in) :: x
+    real(wp) :: t0
+    call cpu_time(t0)
+    r = backend_max(x)
+    call waited(t0)
+  end function comm_max_real
+
   real(wp) function comm_min_real(x) result(r)
     real(wp), intent(in) :: x
-    r = -backend_max(-x)
+    r = -comm_max_real(-x)
   end function comm_min_real
 
   integer function comm_max_int(x) result(r)
     integer, intent(in) :: x
-    r = nint(backend_max(real(x, wp)))
+    r = nint(comm_max_real(real(x, wp)))
   end function comm_max_int
+
+  integer(i8) function comm_sum_int8(x) result(r)
+    integer(i8), intent(in) :: x
+    real(wp) :: t0
+    call cpu_time(t0)
+    r = backend_sum_int8(x)
+    call waited(t0)
+  end function comm_sum_int8
+
+  !> the back end's real sum, timed
+  subroutine sum_real(x)
+    real(wp), intent(inout) :: x(:)
+    real(wp) :: t0
+    call cpu_time(t0)
+    call backend_sum_real(x)
+    call waited(t0)
+  end subroutine sum_real
 
   integer function comm_min_int(x) result(r)
     integer, intent(in) :: x
@@ -128,13 +181,13 @@ contains
     real(wp), intent(in) :: x
     real(wp) :: v(1)
     v(1) = x
-    call backend_sum_real(v)
+    call sum_real(v)
     r = v(1)
   end function comm_sum_real
 
   subroutine comm_sum_array(x)
     real(wp), intent(inout) :: x(:)
-    call backend_sum_real(x)
+    call sum_real(x)
   end subroutine comm_sum_array
 
   !> The sum over keys 1..nkey, in key order, of the columns part(:, m) with key(m) = that
@@ -154,7 +207,7 @@ contains
     do m = 1, size(part, 2)
       flat(nv * (key(m) - 1) + 1:nv * key(m)) = part(:, m)
     end do
-    call backend_sum_real(flat)
+    call sum_real(flat)
     total = 0.0_wp
     do k = 1, nkey
       total = total + flat(nv * (k - 1) + 1:nv * k)
