@@ -237,7 +237,12 @@ contains
         hot%spots_when(m) = t
       end if
     end do
-    v = [v, merge(internal / kinetic, 0.0_wp, kinetic > 0.0_wp)]
+    ! (0 while nothing moves; merge would evaluate the quotient)
+    if (kinetic > 0.0_wp) then
+      v = [v, internal / kinetic]
+    else
+      v = [v, 0.0_wp]
+    end if
     if (t_max > hot%t_peak) then
       hot%t_peak = t_max
       hot%t_peak_time = t
