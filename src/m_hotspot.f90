@@ -9,15 +9,17 @@
 !> temperature near it.
 !> The counting is the same on any number of ranks: each block lists its cells above the
 !> lowest threshold (global index and temperature); the lists are joined in block-id order
-!> on every rank (two sums of arrays in which each entry has one non-zero term) and the
-!> regions are counted there, by union-find over the sorted list.
+!> on every rank (a sum of an array in which each entry has one non-zero term) and the
+!> regions are counted there, by union-find over the sorted list. The blocks' sums (area,
+!> mass, list length, peak near each void) travel together in one such sum by block id.
 module m_hotspot
   use m_kinds, only: wp, i8, name_len
-  use m_comm, only: comm_sum_array, comm_max
+  use m_comm, only: comm_sum_array
   use m_json, only: json_t, json_object, json_close, json_put, json_put_array
   implicit none
   private
-  public :: hot_t, hot_setup, hot_columns, hot_cell, hot_row, hot_block_start, hot_count
+  public :: hot_t, hot_setup, hot_columns, hot_row_start, hot_block, hot_cell, hot_row
+  public :: hot_count
   public :: hot_json, hot_pack, hot_unpack
 
   integer, parameter :: max_thresholds = 4
@@ -34,7 +36,6 @@ module m_hotspot
     real(wp) :: vol0 = -1.0_wp            !< its volume at the first row (-1: not yet)
     real(wp) :: vol_min = huge(1.0_wp), t_min = 0.0_wp
     real(wp) :: t_collapse = -1.0_wp      !< -1: not collapsed
-    real(wp) :: t_near = 0.0_wp           !< the peak temperature near it (this row)
     real(wp) :: t_near_max = 0.0_wp, t_near_when = 0.0_wp
   end type void_t
 
@@ -45,14 +46,17 @@ module m_hotspot
     integer :: n = 0                      !< thresholds
     real(wp) :: thr(max_thresholds) = 0.0_wp
     type(void_t), allocatable :: void(:)
-    ! this row, on this rank: per block its cells above thr(1), then the sums by threshold
+    ! this row, on this rank: per block id its sums (area and mass per threshold, cells
+    ! listed, peak near each void: table rows), and its cells above thr(1), block by block
     integer :: nblocks = 0
-    integer, allocatable :: count_b(:)            !< (block id) cells listed
+    real(wp), allocatable :: part(:, :)           !< (table row, block id)
     integer(i8), allocatable :: idx(:)            !< global cell index (0-based)
     real(wp), allocatable :: temp(:)
     integer, allocatable :: block_of(:)           !< block id of each listed cell
     integer :: nlist = 0
-    real(wp), allocatable :: part(:, :)           !< (area, mass per threshold; block id)
+    integer :: id = 0                             !< the block hot_cell adds to
+    integer, allocatable :: near(:)               !< the voids within reach of that block
+    integer :: nnear = 0
     ! the run's peaks
     real(wp) :: t_peak = 0.0_wp, t_peak_time = 0.0_wp
     real(wp) :: area_max(max_thresholds) = 0.0_wp, area_when(max_thresholds) = 0.0_wp
@@ -94,9 +98,19 @@ contains
       hot%void(v)%radius = radii(v)
     end do
     hot%nblocks = nblocks
-    allocate(hot%count_b(nblocks), hot%part(2 * max_thresholds, nblocks))
+    allocate(hot%part(row_near(size(names)), nblocks), hot%near(size(names)))
     allocate(hot%idx(0), hot%temp(0), hot%block_of(0))
   end subroutine hot_setup
+
+  !> The table row of a block's cells listed; row_count + v is void v's peak near it.
+  pure integer function row_count()
+    row_count = 2 * max_thresholds + 1
+  end function row_count
+
+  pure integer function row_near(v)
+    integer, intent(in) :: v
+    row_near = row_count() + v
+  end function row_near
 
   !> history.csv's columns: per threshold hot_area_<T>, hot_mass_<T>, hot_spots_<T>; the
   !> ratio of internal to kinetic energy; per void <name>_vol and <name>_T_near.
@@ -119,28 +133,43 @@ contains
     end do
   end function hot_columns
 
-  !> The start of a history row: nothing listed yet.
-  subroutine hot_block_start(hot)
+  !> The start of a history row: no sums, nothing listed yet.
+  subroutine hot_row_start(hot)
     type(hot_t), intent(inout) :: hot
-    hot%count_b = 0
     hot%part = 0.0_wp
     hot%nlist = 0
-    hot%void%t_near = 0.0_wp
-  end subroutine hot_block_start
+  end subroutine hot_row_start
 
-  !> One real cell of block id (global cell gidx, centre x, volume dv, density rho) at
-  !> temperature temp: its share of the sums, the list, and the voids' peaks near it.
-  subroutine hot_cell(hot, id, gidx, x, dv, rho, temp)
+  !> The block hot_cell adds to next: its id and the box lo..hi its cells' centres span; the
+  !> voids whose reach meets that box are the only ones its cells are measured against.
+  subroutine hot_block(hot, id, lo, hi)
     type(hot_t), intent(inout) :: hot
     integer, intent(in) :: id
+    real(wp), intent(in) :: lo(3), hi(3)
+    real(wp) :: gap(3)
+    integer :: v
+    hot%id = id
+    hot%nnear = 0
+    do v = 1, size(hot%void)
+      gap = max(lo - hot%void(v)%centre, 0.0_wp, hot%void(v)%centre - hi)
+      if (norm2(gap(1:hot%ndim)) > hot_reach * hot%void(v)%radius) cycle
+      hot%nnear = hot%nnear + 1
+      hot%near(hot%nnear) = v
+    end do
+  end subroutine hot_block
+
+  !> One real cell of the block (global cell gidx, centre x, volume dv, density rho) at
+  !> temperature temp: its share of the sums, the list, and the voids' peaks near it.
+  subroutine hot_cell(hot, gidx, x, dv, rho, temp)
+    type(hot_t), intent(inout) :: hot
     integer(i8), intent(in) :: gidx
     real(wp), intent(in) :: x(3), dv, rho, temp
-    integer :: m, v
-    do v = 1, size(hot%void)
-      associate (vd => hot%void(v))
-        if (norm2(x(1:hot%ndim) - vd%centre(1:hot%ndim)) <= hot_reach * vd%radius) &
-          vd%t_near = max(vd%t_near, temp)
-      end associate
+    integer :: m, k, v, id
+    id = hot%id
+    do k = 1, hot%nnear
+      v = hot%near(k)
+      if (norm2(x(1:hot%ndim) - hot%void(v)%centre(1:hot%ndim)) <= hot_reach &
+        * hot%void(v)%radius) hot%part(row_near(v), id) = max(hot%part(row_near(v), id), temp)
     end do
     if (hot%n == 0) return
     if (.not. temp > hot%thr(1)) return
@@ -154,7 +183,7 @@ contains
     hot%idx(hot%nlist) = gidx
     hot%temp(hot%nlist) = temp
     hot%block_of(hot%nlist) = id
-    hot%count_b(id) = hot%count_b(id) + 1
+    hot%part(row_count(), id) = hot%part(row_count(), id) + 1.0_wp
 
   contains
 
@@ -182,51 +211,35 @@ contains
     real(wp), intent(in) :: t, t_max, internal, kinetic, void_vol(:)
     integer, intent(in) :: cells(3)
     real(wp), allocatable :: v(:)
-    real(wp), allocatable :: counts(:), psum(:), flat(:), tflat(:)
-    real(wp) :: sums(2 * max_thresholds), near(max(size(hot%void), 1))
-    integer(i8), allocatable :: all_idx(:)
-    integer, allocatable :: first(:)
-    integer :: m, k, total, id, nv, spots
+    real(wp), allocatable :: table(:, :), list(:, :)
+    real(wp) :: sums(2 * max_thresholds), near(size(hot%void))
+    integer :: first(hot%nblocks), seen(hot%nblocks)
+    integer :: m, k, id, nv, spots
     allocate(v(0))
     if (.not. hot%on) return
     nv = size(hot%void)
-    ! the sums by threshold, over the block ids (the same bits on any rank count)
-    psum = reshape(hot%part, [size(hot%part)])
-    call comm_sum_array(psum)
-    sums = 0.0_wp
-    do id = 1, hot%nblocks
-      sums = sums + psum(2 * max_thresholds * (id - 1) + 1:2 * max_thresholds * id)
+    ! the blocks' sums by block id (each entry held by one rank: the same bits on any
+    ! rank count), then over the blocks
+    table = hot%part
+    call sum_table(table)
+    sums = sum(table(1:2 * max_thresholds, :), dim=2)
+    near = maxval(table(row_near(1):row_near(nv), :), dim=2)
+    ! the listed cells (index, temperature), joined in block-id order
+    first(1) = 0
+    do id = 2, hot%nblocks
+      first(id) = first(id - 1) + nint(table(row_count(), id - 1))
     end do
-    ! the listed cells, joined in block-id order
-    counts = real(hot%count_b, wp)
-    call comm_sum_array(counts)
-    allocate(first(hot%nblocks))
-    total = 0
-    do id = 1, hot%nblocks
-      first(id) = total
-      total = total + nint(counts(id))
+    allocate(list(2, nint(sum(table(row_count(), :)))))
+    list = 0.0_wp
+    seen = 0
+    do k = 1, hot%nlist
+      id = hot%block_of(k)
+      seen(id) = seen(id) + 1
+      list(:, first(id) + seen(id)) = [real(hot%idx(k), wp), hot%temp(k)]
     end do
-    allocate(flat(total), tflat(total))
-    flat = 0.0_wp
-    tflat = 0.0_wp
-    block
-      integer :: seen(hot%nblocks)
-      seen = 0
-      do k = 1, hot%nlist
-        id = hot%block_of(k)
-        seen(id) = seen(id) + 1
-        flat(first(id) + seen(id)) = real(hot%idx(k), wp)
-        tflat(first(id) + seen(id)) = hot%temp(k)
-      end do
-    end block
-    call comm_sum_array(flat)
-    call comm_sum_array(tflat)
-    all_idx = nint(flat, i8)
-    do k = 1, nv
-      near(k) = comm_max(hot%void(k)%t_near)   ! (a handful of voids: one reduction each)
-    end do
+    call sum_table(list)
     do m = 1, hot%n
-      spots = hot_count(pack(all_idx, tflat > hot%thr(m)), cells)
+      spots = hot_count(nint(pack(list(1, :), list(2, :) > hot%thr(m)), i8), cells)
       v = [v, sums(2 * m - 1), sums(2 * m), real(spots, wp)]
       if (sums(2 * m - 1) > hot%area_max(m)) then
         hot%area_max(m) = sums(2 * m - 1)
@@ -249,7 +262,6 @@ contains
     end if
     do k = 1, nv
       associate (vd => hot%void(k))
-        vd%t_near = near(k)
         if (vd%vol0 < 0.0_wp) vd%vol0 = void_vol(k)
         if (void_vol(k) < vd%vol_min) then
           vd%vol_min = void_vol(k)
@@ -264,6 +276,16 @@ contains
         v = [v, void_vol(k), near(k)]
       end associate
     end do
+
+  contains
+
+    subroutine sum_table(a)
+      real(wp), allocatable, intent(inout) :: a(:, :)
+      real(wp), allocatable :: flat(:)
+      flat = reshape(a, [size(a)])
+      call comm_sum_array(flat)
+      a = reshape(flat, shape(a))
+    end subroutine sum_table
   end function hot_row
 
   !> run.json's `hotspots`: the thresholds, the run's peaks by threshold, and per void its

@@ -16,7 +16,7 @@ module m_output
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
   use m_config, only: is_set, material_index
-  use m_hotspot, only: hot_t, hot_columns, hot_cell, hot_row, hot_block_start
+  use m_hotspot, only: hot_t, hot_columns, hot_row_start, hot_block, hot_cell, hot_row
   use m_kinds, only: i8
   implicit none
   private
@@ -226,7 +226,7 @@ contains
     ! block by block, then over the block ids: the same sums however the blocks are owned
     allocate(part(11, size(sim%blocks)))
     part = 0.0_wp
-    call hot_block_start(sim%hot)
+    call hot_row_start(sim%hot)
     do b = 1, size(sim%blocks)
       tot = 0.0_wp
       call block_totals(sim, b, has_t, tot, pmax, tmax, epmax, sim%hot)
@@ -261,8 +261,8 @@ contains
       body(:, nb) = body_measures(sim, l)
     end do
     if (nb > 0) v = [v, reshape(body, [8 * nb])]
-    v = [v, hot_row(sim%hot, sim%clk%time, tmax, tot(6), tot(5), &
-      [(void_volume(sim, sim%hot%void(l)%l), l = 1, size(sim%hot%void))], sim%lay%cells)]
+    v = [v, hot_row(sim%hot, sim%clk%time, tmax, tot(6), tot(5), void_volumes(sim), &
+      sim%lay%cells)]
   end function history_values
 
   !> The totals and maxima of history_values over block b, added in cell order.
@@ -279,6 +279,8 @@ contains
     n = sim%blocks(b)%n(1)
     associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
       dv = [(cell_volume(sim%lay, off, i), i = 1, n)]
+      if (hot%on) call hot_block(hot, sim%blocks(b)%id, cell_centre(sim%lay, off, 1, 1, 1), &
+        cell_centre(sim%lay, off, n, sim%blocks(b)%n(2), sim%blocks(b)%n(3)))
       do k = 1, sim%blocks(b)%n(3)
         do j = 1, sim%blocks(b)%n(2)
           call phase_select(sim, q(1:n, j, k, :), sel, isreal)
@@ -306,8 +308,8 @@ contains
               if (has_t(ph) .and. hot%on) then
                 do i = 1, n
                   if (.not. msk(i) > 0.0_wp) cycle
-                  call hot_cell(hot, sim%blocks(b)%id, global_index(i, j, k), &
-                    cell_centre(sim%lay, off, i, j, k), dv(i), rho(i), temp(i))
+                  call hot_cell(hot, global_index(i, j, k), cell_centre(sim%lay, off, i, j, k), &
+                    dv(i), rho(i), temp(i))
                 end do
               end if
               if (sim%ph%strong(ph)) epmax = max(epmax, &
@@ -329,26 +331,30 @@ contains
     end function global_index
   end subroutine block_totals
 
-  !> The volume of void body l (its level set negative inside): sum f V with the cell's
-  !> share f = 1/2 - phi / h, clipped to [0, 1], over the block ids.
-  real(wp) function void_volume(sim, l) result(vol)
+  !> The volume of each void body of the hot-spot diagnostics (its level set negative
+  !> inside): sum f V with the cell's share f = 1/2 - phi / h, clipped to [0, 1], in one pass
+  !> over the cells and one sum over the block ids.
+  function void_volumes(sim) result(vol)
     type(sim_t), intent(in) :: sim
-    integer, intent(in) :: l
-    real(wp) :: h, part(1, size(sim%blocks)), s(1)
-    integer :: b, i, n(3)
+    real(wp) :: vol(size(sim%hot%void))
+    real(wp) :: h, part(size(sim%hot%void), size(sim%blocks)), dv
+    integer :: b, i, v, n(3)
+    vol = 0.0_wp
+    if (size(vol) == 0) return
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
     part = 0.0_wp
     do b = 1, size(sim%blocks)
       n = sim%blocks(b)%n
       do i = 1, n(1)
-        part(1, b) = part(1, b) + cell_volume(sim%lay, sim%blocks(b)%offset, i) &
-          * sum(min(1.0_wp, max(0.0_wp, 0.5_wp - sim%blocks(b)%q(i, 1:n(2), 1:n(3), &
-          sim%ph%ils + l) / h)))
+        dv = cell_volume(sim%lay, sim%blocks(b)%offset, i)
+        do v = 1, size(vol)
+          part(v, b) = part(v, b) + dv * sum(min(1.0_wp, max(0.0_wp, 0.5_wp &
+            - sim%blocks(b)%q(i, 1:n(2), 1:n(3), sim%ph%ils + sim%hot%void(v)%l) / h)))
+        end do
       end do
     end do
-    s = comm_sum_by_key(part, [(sim%blocks(b)%id, b = 1, size(sim%blocks))], sim%lay%nblocks)
-    vol = s(1)
-  end function void_volume
+    vol = comm_sum_by_key(part, [(sim%blocks(b)%id, b = 1, size(sim%blocks))], sim%lay%nblocks)
+  end function void_volumes
 
   !> The phase of each cell of a row (the one whose composite level set is least there) and
   !> whether the cell is real for it (in its region).
