@@ -80,6 +80,7 @@ contains
       ! has the density of the material beside it) and its budget so far (m_gfm_cut)
       call h5_write_attr(f, 'cut_stranded', sim%cut%stranded)
       call h5_write_attr(f, 'cut_crossed', sim%cut%crossed)
+      call h5_write_attr(f, 'cut_closing', sim%cut%closing)
       do m = 1, sim%ph%nflow
         do b = 1, size(sim%blocks)
           n = sim%blocks(b)%n
@@ -225,6 +226,9 @@ contains
       if (h5_exists(f, trim(content_names(1)))) then
         call h5_read_attr(f, 'cut_stranded', sim%cut%stranded)
         call h5_read_attr(f, 'cut_crossed', sim%cut%crossed)
+        ! (a checkpoint written before the closing exchange counts from the restart on)
+        sim%cut%closing = 0.0_wp
+        if (h5_has_attr(f, 'cut_closing')) call h5_read_attr(f, 'cut_closing', sim%cut%closing)
         do m = 1, sim%ph%nflow
           call h5_read_field(f, trim(content_names(m)), sim%lay, ids, data)
           do b = 1, size(sim%blocks)

@@ -10,7 +10,7 @@ module m_output
   use m_eos, only: eos_temperature, eos_sound_speed2
   use m_hdf5_io, only: h5_file_t, h5_create, h5_close, h5_write_attr, h5_write_field
   use m_xdmf, only: xdmf_write
-  use m_comm, only: comm_sum_array, comm_sum_by_key, comm_max, comm_sum
+  use m_comm, only: comm_sum_by_key, comm_max, comm_sum
   use m_levelset_bodies, only: ls_region, ls_material
   use m_gfm_cut, only: cut_content
   use m_scene, only: cell_centre
@@ -197,7 +197,7 @@ contains
     ! fills at the density of its states (their difference is the drift, theory.md 7c)
     if (sim%cut%on) cols = [character(len=name_len) :: cols, 'cut_mass', 'cut_energy', &
       'cut_volume', 'cut_in_mass', 'cut_in_energy', 'cut_stranded_mass', &
-      'cut_stranded_energy', 'cut_content_volume']
+      'cut_stranded_energy', 'cut_content_volume', 'cut_closing_cells', 'cut_closing_heat']
     do l = 1, sim%ls%n
       if (sim%ls%kind(l) /= ls_material) cycle
       cols = [character(len=name_len) :: cols, &
@@ -246,10 +246,9 @@ contains
     if (sim%cut%on) then
       cut_tot(4:5) = sim%cut%crossed
       cut_tot(6:7) = sim%cut%stranded
-      call comm_sum_array(cut_tot(4:7))
       cut_tot(1:3) = sums(8:10)
       cut_tot(8) = sums(11)
-      v = [v, cut_tot]
+      v = [v, cut_tot, sim%cut%closing]
     end if
     nb = 0
     if (sim%ls%n > 0) nb = count(sim%ls%kind == ls_material)

@@ -28,7 +28,7 @@ module m_gfm_cut
   use m_layout, only: layout_t, cell_volume
   use m_blocks, only: block_t
   use m_phases, only: phases_t
-  use m_state, only: i_rho, i_en, i_epsp, i_wcold
+  use m_state, only: i_rho, i_mx, i_mz, i_en, i_epsp, i_wcold
   use m_euler, only: cut_faces_t
   use m_runge_kutta, only: rk_blend
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void
@@ -60,8 +60,14 @@ module m_gfm_cut
     real(wp), allocatable :: c0(:, :, :, :, :)    !< (cell, variable, block) at the step start
     real(wp), allocatable :: alpha_n(:, :, :, :)  !< (cell, block) fractions of q's states
     real(wp) :: stranded(2) = 0.0_wp              !< mass, energy that found no cell (so far)
-    real(wp) :: side(2, 3) = 0.0_wp               !< (mass, energy; stage) rates in at the sides
     real(wp) :: crossed(2) = 0.0_wp               !< mass, energy in through the sides (so far)
+    !> this step's, per block (summed over the blocks by id at the step's end, so that the
+    !> totals above are the same on every rank and on any number of ranks):
+    real(wp), allocatable :: side(:, :, :)        !< (mass, energy; stage; block) rates in
+    real(wp), allocatable :: out(:, :)            !< (crossed out: mass, energy; stranded:
+                                                  !< mass, energy; closing: cells, heat;
+                                                  !< block) by the cell rules
+    real(wp) :: closing(2) = 0.0_wp               !< closing cells (cell-steps), their heat
   end type cut_t
 
 contains
@@ -188,7 +194,7 @@ contains
   !> variables hold the content C over the padded block; the small cells are mixed, the
   !> interior's content kept in cut%c and its states U = C / alpha put into q. failed: a
   !> state with rho <= 0 or an energy that is not finite.
-  subroutine cut_open(cut, b, blk, ph, alpha_e, open_side, final, failed)
+  subroutine cut_open(cut, b, blk, ph, alpha_e, open_side, final, failed, bigphi, owner)
     type(cut_t), intent(inout) :: cut
     integer, intent(in) :: b
     type(block_t), intent(inout) :: blk
@@ -197,6 +203,8 @@ contains
     logical, intent(in) :: open_side(2, 3)   !< the domain's outflow sides (low, high; x, y, z)
     logical, intent(in) :: final             !< at the step's end (after its last stage)
     logical, intent(inout) :: failed
+    real(wp), intent(in) :: bigphi(:, :, :)   !< the phase's level set over the padded block
+    integer, intent(in) :: owner(:, :, :)     !< whose surface (ls_region; 0: a void's)
     integer, allocatable :: root(:, :, :, :)
     real(wp), allocatable :: vol(:), cq(:, :, :, :), filled(:, :, :)
     integer :: e(3), n(3), i, j, k, r(3), lo, nf
@@ -214,6 +222,7 @@ contains
       allocate(cq(1-lay%ng(1):n(1)+lay%ng(1), 1-lay%ng(2):n(2)+lay%ng(2), &
         1-lay%ng(3):n(3)+lay%ng(3), nf))
       cq = q(:, :, :, lo:lo + nf - 1)
+      call relax_closing(final)
       ! the fractions the groups are formed by: a wet cell whose content fills less of it
       ! than its fraction says (a surface the level set has moved ahead of the material, as
       ! where a void closes) counts by its content, at the phase's rest density
@@ -231,8 +240,8 @@ contains
               ! once (inside the step a stage's content counts with the stage's weight)
               cc = cq(i, j, k, :)
               if (final) then
-                cut%stranded(1) = cut%stranded(1) + cq(i, j, k, i_rho) * vol(i)
-                cut%stranded(2) = cut%stranded(2) + cq(i, j, k, i_en) * vol(i)
+                cut%out(3, b) = cut%out(3, b) + cq(i, j, k, i_rho) * vol(i)
+                cut%out(4, b) = cut%out(4, b) + cq(i, j, k, i_en) * vol(i)
                 cc = 0.0_wp
               end if
             else if (all(r == [i, j, k]) .and. .not. has_members(r)) then
@@ -240,8 +249,8 @@ contains
               if (final .and. alpha(i, j, k) < cut%small .and. on_open_side([i, j, k])) then
                 ! a small cell alone on an open side: the last of the phase leaving the
                 ! domain; what it holds goes out through the side (counted)
-                cut%crossed(1) = cut%crossed(1) - cc(i_rho) * vol(i)
-                cut%crossed(2) = cut%crossed(2) - cc(i_en) * vol(i)
+                cut%out(1, b) = cut%out(1, b) - cc(i_rho) * vol(i)
+                cut%out(2, b) = cut%out(2, b) - cc(i_en) * vol(i)
                 cc = 0.0_wp
               end if
             else
@@ -277,6 +286,87 @@ contains
     end associate
 
   contains
+
+    !> A cell every corner of which lies in the phase while its centre lies outside (a
+    !> remnant of a void narrower than the cell, closing; cut_follow closes it at the step's
+    !> end) shows a ghost state to the stencils, so the content its faces bring does not push
+    !> back, and piles up. Until it closes it shares content with each wet face neighbour
+    !> that is not closing too: theta (C_n - C_c) min(V_c, V_n) per face, theta =
+    !> 1 / (2 ndim + 1) (a closing cell surrounded by material takes the mean of itself and
+    !> its neighbours), conservative face by face and computed alike by every block that sees
+    !> the face (cq over the padded block less two layers).
+    subroutine relax_closing(count)
+      logical, intent(in) :: count   !< count the closing cells and their heat (cut%out)
+      real(wp), allocatable :: cn(:, :, :, :)
+      real(wp) :: th, vc, vn
+      integer :: ii, jj, kk, d, s, nb(3), e2(3)
+      logical :: cl, inside
+      e2 = max(e - 1, 0)
+      th = 1.0_wp / real(2 * blk%lay%ndim + 1, wp)
+      cn = cq
+      do kk = 1 - e2(3), n(3) + e2(3)
+        do jj = 1 - e2(2), n(2) + e2(2)
+          do ii = 1 - e2(1), n(1) + e2(1)
+            if (.not. alpha(ii, jj, kk) > 0.0_wp) cycle
+            cl = closing([ii, jj, kk])
+            inside = all([ii, jj, kk] >= 1 .and. [ii, jj, kk] <= n)
+            if (count .and. cl .and. inside) cut%out(5, b) = cut%out(5, b) + 1.0_wp
+            do d = 1, blk%lay%ndim
+              do s = -1, 1, 2
+                nb = [ii, jj, kk]
+                nb(d) = nb(d) + s
+                if (.not. alpha(nb(1), nb(2), nb(3)) > 0.0_wp) cycle
+                if (.not. (cl .neqv. closing(nb))) cycle
+                vc = cell_volume(blk%lay, blk%offset, ii)
+                vn = cell_volume(blk%lay, blk%offset, nb(1))
+                cn(ii, jj, kk, :) = cn(ii, jj, kk, :) + th * min(vc, vn) / vc &
+                  * (cq(nb(1), nb(2), nb(3), :) - cq(ii, jj, kk, :))
+              end do
+            end do
+          end do
+        end do
+      end do
+      if (count) then
+        ! the kinetic energy the exchange turned into heat (in the block's own cells)
+        do kk = 1, n(3)
+          do jj = 1, n(2)
+            do ii = 1, n(1)
+              cut%out(6, b) = cut%out(6, b) + (kinetic(cq(ii, jj, kk, :)) &
+                - kinetic(cn(ii, jj, kk, :))) * cell_volume(blk%lay, blk%offset, ii)
+            end do
+          end do
+        end do
+      end if
+      cq = cn
+    end subroutine relax_closing
+
+    !> the kinetic energy per volume of content u
+    real(wp) function kinetic(u)
+      real(wp), intent(in) :: u(:)
+      kinetic = 0.0_wp
+      if (u(i_rho) > 0.0_wp) kinetic = 0.5_wp * sum(u(i_mx:i_mz)**2) / u(i_rho)
+    end function kinetic
+
+    !> cell c0 closing: wet, its centre outside the phase, and either full by its fraction
+    !> or between two cells of the phase along some direction (a sliver of the void)
+    logical function closing(c0)
+      integer, intent(in) :: c0(3)
+      integer :: g(3), d, m(3), p(3)
+      g = c0 + blk%lay%ng
+      closing = .false.
+      if (.not. alpha(c0(1), c0(2), c0(3)) > 0.0_wp) return
+      if (bigphi(g(1), g(2), g(3)) < 0.0_wp .or. owner(g(1), g(2), g(3)) /= 0) return
+      closing = .not. alpha(c0(1), c0(2), c0(3)) < full
+      if (closing) return
+      do d = 1, blk%lay%ndim
+        m = g
+        p = g
+        m(d) = m(d) - 1
+        p(d) = p(d) + 1
+        if (bigphi(m(1), m(2), m(3)) < 0.0_wp .and. bigphi(p(1), p(2), p(3)) < 0.0_wp) &
+          closing = .true.
+      end do
+    end function closing
 
     real(wp) function alpha(i0, j0, k0)
       integer, intent(in) :: i0, j0, k0
@@ -419,8 +509,8 @@ contains
     n = blk%n
     do i = 1, n(1)
       dv = cell_volume(blk%lay, blk%offset, i)
-      cut%stranded(1) = cut%stranded(1) + sum(cut%c(i, 1:n(2), 1:n(3), i_rho, b)) * dv
-      cut%stranded(2) = cut%stranded(2) + sum(cut%c(i, 1:n(2), 1:n(3), i_en, b)) * dv
+      cut%out(3, b) = cut%out(3, b) + sum(cut%c(i, 1:n(2), 1:n(3), i_rho, b)) * dv
+      cut%out(4, b) = cut%out(4, b) + sum(cut%c(i, 1:n(2), 1:n(3), i_en, b)) * dv
     end do
     cut%c(:, :, :, :, b) = 0.0_wp
   end subroutine cut_strand
@@ -473,6 +563,7 @@ contains
     type(ls_set_t), intent(in) :: ls
     integer :: i, j, k, l, lv, v0
     real(wp) :: a, f, h, rho, top
+    real(wp), parameter :: remnant = 0.01_wp   !< a closed remnant's centre value (cells)
     if (.not. any(ls%kind == ls_void)) return
     v0 = ph%lo(cut%p) - 1
     h = minval(blk%lay%dx(1:blk%lay%ndim))
@@ -480,9 +571,7 @@ contains
       do j = 1, blk%n(2)
         do i = 1, blk%n(1)
           a = cut%faces(b)%alpha(i, j, k)
-          if (.not. (a > 0.0_wp .and. a < full)) cycle
-          rho = blk%q(i, j, k, v0 + i_rho)
-          if (.not. (rho > 0.0_wp .and. cut%c(i, j, k, i_rho, b) > 0.0_wp)) cycle
+          if (.not. a > 0.0_wp) cycle
           ! the void whose surface this is: the largest -phi over the void bodies
           lv = 0
           top = -huge(1.0_wp)
@@ -496,6 +585,16 @@ contains
           ! (a material body's surface, where one lies nearer than the void's)
           if (any(ls%kind == ls_material .and. blk%q(i, j, k, ph%ils + 1:ph%ils + ls%n) &
             < -top)) cycle
+          if (.not. a < full) then
+            ! every corner of the cell lies in the material, but the void's level set dips
+            ! below zero at its centre: a remnant of the void narrower than the cell. The
+            ! cell is the material's (its centre made so): as a void cell its state would be
+            ! a ghost state and its content, which the fluxes fill, would not push back
+            if (top > 0.0_wp) blk%q(i, j, k, ph%ils + lv) = remnant * h
+            cycle
+          end if
+          rho = blk%q(i, j, k, v0 + i_rho)
+          if (.not. (rho > 0.0_wp .and. cut%c(i, j, k, i_rho, b) > 0.0_wp)) cycle
           f = min(cut%c(i, j, k, i_rho, b) / rho, 1.0_wp)
           blk%q(i, j, k, ph%ils + lv) = blk%q(i, j, k, ph%ils + lv) &
             + max(-0.25_wp, min(0.25_wp, cut%follow * (f - a))) * h

@@ -24,7 +24,7 @@ module m_gfm_stage
   use m_gfm_cut_cells, only: cut_donate
   use m_state, only: n_euler, i_rho
   use m_boundary, only: ghosts_all, bc_outflow
-  use m_comm, only: comm_any
+  use m_comm, only: comm_any, comm_sum_by_key
   implicit none
   private
   public :: ghost_fluid_fill, phase_rhs, phase_corrections, phase_states
@@ -64,7 +64,13 @@ contains
     integer :: b
     call rigid_bodies_move(lay, bodies, ls, ph%ils, blocks, t)
     if (cut%on) then
-      if (stage == 1) cut%side = 0.0_wp
+      if (stage == 1) then
+        ! this step's budget per block (a step that is redone starts it again)
+        if (allocated(cut%side)) deallocate(cut%side, cut%out)
+        allocate(cut%side(2, 3, size(blocks)), cut%out(6, size(blocks)))
+        cut%side = 0.0_wp
+        cut%out = 0.0_wp
+      end if
       call phase_states(gf, cut, ls, ph, plan, lay, bc, blocks, t, dt, 0, thermal, &
         merge(states_open, states_geometry, stage > 1), failed)
       ! the halo held content: now the neighbours' states, for the ghost fill's stencils
@@ -128,7 +134,7 @@ contains
         call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
           blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
           wet, trouble, cut%faces(b))
-        cut%side(:, stage) = cut%side(:, stage) + work%bflux
+        cut%side(:, stage, b) = cut%side(:, stage, b) + work%bflux
         return
       end if
       call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
@@ -221,6 +227,9 @@ contains
     logical :: states, final, bad, open_sides(2, 3)
     logical, allocatable :: isreal(:, :, :), fresh(:, :, :)
     real(wp), allocatable :: share(:, :, :)   !< content over state: the wet part
+    real(wp), allocatable :: step(:, :)       !< this step's budget terms per block
+    real(wp) :: w(3)                          !< the stages' weights
+    real(wp) :: total(6)
     integer :: b, p, m, lo(3), hi(3), n(3), v0
     if (.not. cut%on) return
     if (mode == states_end .or. mode == states_start) &
@@ -283,10 +292,11 @@ contains
         lo = 1 - blk%lay%ng
         hi = n + blk%lay%ng
         call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
-        call cut_open(cut, b, blk, ph, cut%ext(b)%a, open_sides, final, bad)
+        call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
+          w%bigphi(:, :, :, p), w%owner(:, :, :, p))
+        call cut_open(cut, b, blk, ph, cut%ext(b)%a, open_sides, final, bad, &
+          w%bigphi(:, :, :, p), w%owner(:, :, :, p))
         if (ph%strong(p)) then
-          call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
-            w%bigphi(:, :, :, p), w%owner(:, :, :, p))
           isreal = w%bigphi(1:n(1), 1:n(2), 1:n(3), p) < 0.0_wp
           fresh = isreal .and. .not. cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) > 0.0_wp
           call plastic_correction(blk%lay, ph%eos(p), ph%st(p), thermal, dt, &
@@ -315,8 +325,20 @@ contains
       return
     end if
     failed = comm_any(bad)
-    ! what came in through the domain's sides in this step (the stages' weights)
-    if (.not. failed) cut%crossed = cut%crossed + dt * matmul(cut%side, rk_weights(order))
+    if (failed) return
+    ! what came in through the domain's sides in this step (the stages' weights) and what
+    ! the cell rules sent out or stranded, summed over the blocks in the order of their ids
+    allocate(step(6, size(blocks)))
+    w = rk_weights(order)
+    do b = 1, size(blocks)
+      step(1:2, b) = dt * (cut%side(:, 1, b) * w(1) + cut%side(:, 2, b) * w(2) &
+        + cut%side(:, 3, b) * w(3)) + cut%out(1:2, b)
+      step(3:6, b) = cut%out(3:6, b)
+    end do
+    total = comm_sum_by_key(step, blocks%id, lay%nblocks)
+    cut%crossed = cut%crossed + total(1:2)
+    cut%stranded = cut%stranded + total(3:4)
+    cut%closing = cut%closing + total(5:6)
   end subroutine phase_states
 
 end module m_gfm_stage
