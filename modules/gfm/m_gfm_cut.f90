@@ -206,8 +206,9 @@ contains
     real(wp), intent(in) :: bigphi(:, :, :)   !< the phase's level set over the padded block
     integer, intent(in) :: owner(:, :, :)     !< whose surface (ls_region; 0: a void's)
     integer, allocatable :: root(:, :, :, :)
-    real(wp), allocatable :: vol(:), cq(:, :, :, :), filled(:, :, :)
-    integer :: e(3), n(3), i, j, k, r(3), lo, nf
+    real(wp), allocatable :: vol(:), cq(:, :, :, :), filled(:, :, :), ai(:, :, :)
+    integer, allocatable :: kind(:, :, :)
+    integer :: e(3), n(3), i, j, k, r(3), lo, nf, m
     real(wp) :: sum_c(ph%nflow), sum_a, cc(ph%nflow), least
     lo = ph%lo(cut%p)
     nf = ph%nflow
@@ -230,6 +231,12 @@ contains
       where (alpha_e > 0.0_wp) filled = min(alpha_e, max(cq(1-e(1):n(1)+e(1), &
         1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3), i_rho), 0.0_wp) / ph%rest(1, cut%p))
       call group_roots(lay, blk%offset, n, e, filled, cut%small, root)
+      ! the contents: each cell its own, then the cells the rules below change (an empty
+      ! cell, the members of a group, the last of the phase on an open side); by arrays per
+      ! variable for the plain cells, which are most of them
+      do m = 1, nf
+        cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = cq(1:n(1), 1:n(2), 1:n(3), m)
+      end do
       do k = 1, n(3)
         do j = 1, n(2)
           do i = 1, n(1)
@@ -238,47 +245,69 @@ contains
               ! empty: what content it still holds found no wet neighbour (cut_donate); it
               ! is taken out (and counted) at the step's end only, where the budget sees it
               ! once (inside the step a stage's content counts with the stage's weight)
-              cc = cq(i, j, k, :)
               if (final) then
                 cut%out(3, b) = cut%out(3, b) + cq(i, j, k, i_rho) * vol(i)
                 cut%out(4, b) = cut%out(4, b) + cq(i, j, k, i_en) * vol(i)
-                cc = 0.0_wp
               end if
             else if (all(r == [i, j, k]) .and. .not. has_members(r)) then
-              cc = cq(i, j, k, :)
               if (final .and. alpha(i, j, k) < cut%small .and. on_open_side([i, j, k])) then
                 ! a small cell alone on an open side: the last of the phase leaving the
                 ! domain; what it holds goes out through the side (counted)
-                cut%out(1, b) = cut%out(1, b) - cc(i_rho) * vol(i)
-                cut%out(2, b) = cut%out(2, b) - cc(i_en) * vol(i)
-                cc = 0.0_wp
+                cut%out(1, b) = cut%out(1, b) - cq(i, j, k, i_rho) * vol(i)
+                cut%out(2, b) = cut%out(2, b) - cq(i, j, k, i_en) * vol(i)
+                cut%c(i, j, k, 1:nf, b) = 0.0_wp
               end if
             else
               call group_sum(r, sum_c, sum_a, least)
               if (least > 0.0_wp) then
                 ! every member keeps its mass and takes the group's state per mass
-                cc = cq(i, j, k, i_rho) * sum_c / sum_c(i_rho)
+                cut%c(i, j, k, 1:nf, b) = cq(i, j, k, i_rho) * sum_c / sum_c(i_rho)
               else
                 ! a member has lost more mass than it held: the group's content shared by
                 ! the members' fractions
-                cc = alpha(i, j, k) * sum_c / sum_a
+                cut%c(i, j, k, 1:nf, b) = alpha(i, j, k) * sum_c / sum_a
               end if
             end if
-            cut%c(i, j, k, 1:nf, b) = cc
-            if (alpha(i, j, k) > 0.0_wp .and. cc(i_rho) > 0.0_wp .and. &
-                alpha(i, j, k) < full) then
+          end do
+        end do
+      end do
+      ! the states: a full cell's its content over its fraction; a cell with no material
+      ! (outside, or a wet cell that nothing has reached yet, with no neighbour to share
+      ! with) the state it had at the step's start (a ghost or rest state, which the ghost
+      ! fill and m_gfm's rest state replace; its content is kept in cut%c); a cut cell's
+      ! below
+      ! (each cell's kind once: 0 the start's state, 1 full, 2 cut; then variable by variable)
+      allocate(ai(n(1), n(2), n(3)), kind(n(1), n(2), n(3)))
+      ai = alpha_e(1+e(1):n(1)+e(1), 1+e(2):n(2)+e(2), 1+e(3):n(3)+e(3))
+      kind = 0
+      where (ai > 0.0_wp .and. cut%c(1:n(1), 1:n(2), 1:n(3), i_rho, b) > 0.0_wp) kind = 2
+      where (kind == 2 .and. .not. ai < full) kind = 1
+      do m = 1, nf
+        if (final) then
+          where (.not. ai > 0.0_wp) cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = 0.0_wp
+        end if
+        do k = 1, n(3)
+          do j = 1, n(2)
+            do i = 1, n(1)
+              if (kind(i, j, k) == 1) then
+                q(i, j, k, lo + m - 1) = cut%c(i, j, k, m, b) / ai(i, j, k)
+              else if (kind(i, j, k) == 0) then
+                q(i, j, k, lo + m - 1) = blk%q0(i, j, k, lo + m - 1)
+              end if
+            end do
+          end do
+        end do
+      end do
+      do k = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
+            if (kind(i, j, k) == 2) then
               ! a cut cell: its content per mass at the density of the material beside it
+              cc = cut%c(i, j, k, 1:nf, b)
               q(i, j, k, lo:lo + nf - 1) = cc * (reference_density([i, j, k], cc) / cc(i_rho))
+            end if
+            if (kind(i, j, k) > 0) then
               if (.not. admissible(q(i, j, k, lo:lo + nf - 1))) failed = .true.
-            else if (alpha(i, j, k) > 0.0_wp .and. cc(i_rho) > 0.0_wp) then
-              q(i, j, k, lo:lo + nf - 1) = cc / alpha(i, j, k)
-              if (.not. admissible(q(i, j, k, lo:lo + nf - 1))) failed = .true.
-            else
-              ! no material (outside, or a wet cell that nothing has reached yet, with no
-              ! neighbour to share with): the state it had at the step's start (a ghost or
-              ! rest state, which the ghost fill and m_gfm's rest state replace); its
-              ! content is kept in cut%c
-              q(i, j, k, lo:lo + nf - 1) = blk%q0(i, j, k, lo:lo + nf - 1)
             end if
           end do
         end do
@@ -298,9 +327,19 @@ contains
     subroutine relax_closing(count)
       logical, intent(in) :: count   !< count the closing cells and their heat (cut%out)
       real(wp), allocatable :: cn(:, :, :, :)
+      logical, allocatable :: cls(:, :, :)
       real(wp) :: th, vc, vn
       integer :: ii, jj, kk, d, s, nb(3), e2(3)
-      logical :: cl, inside
+      logical :: inside
+      allocate(cls(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
+      do kk = 1 - e(3), n(3) + e(3)
+        do jj = 1 - e(2), n(2) + e(2)
+          do ii = 1 - e(1), n(1) + e(1)
+            cls(ii, jj, kk) = closing([ii, jj, kk])
+          end do
+        end do
+      end do
+      if (.not. any(cls)) return   ! (most blocks, and every scene without a void body)
       e2 = max(e - 1, 0)
       th = 1.0_wp / real(2 * blk%lay%ndim + 1, wp)
       cn = cq
@@ -308,15 +347,14 @@ contains
         do jj = 1 - e2(2), n(2) + e2(2)
           do ii = 1 - e2(1), n(1) + e2(1)
             if (.not. alpha(ii, jj, kk) > 0.0_wp) cycle
-            cl = closing([ii, jj, kk])
             inside = all([ii, jj, kk] >= 1 .and. [ii, jj, kk] <= n)
-            if (count .and. cl .and. inside) cut%out(5, b) = cut%out(5, b) + 1.0_wp
+            if (count .and. cls(ii, jj, kk) .and. inside) cut%out(5, b) = cut%out(5, b) + 1.0_wp
             do d = 1, blk%lay%ndim
               do s = -1, 1, 2
                 nb = [ii, jj, kk]
                 nb(d) = nb(d) + s
                 if (.not. alpha(nb(1), nb(2), nb(3)) > 0.0_wp) cycle
-                if (.not. (cl .neqv. closing(nb))) cycle
+                if (.not. (cls(ii, jj, kk) .neqv. cls(nb(1), nb(2), nb(3)))) cycle
                 vc = cell_volume(blk%lay, blk%offset, ii)
                 vn = cell_volume(blk%lay, blk%offset, nb(1))
                 cn(ii, jj, kk, :) = cn(ii, jj, kk, :) + th * min(vc, vn) / vc &
