@@ -81,6 +81,7 @@ contains
       call h5_write_attr(f, 'cut_stranded', sim%cut%stranded)
       call h5_write_attr(f, 'cut_crossed', sim%cut%crossed)
       call h5_write_attr(f, 'cut_closing', sim%cut%closing)
+      call h5_write_attr(f, 'cut_held', sim%cut%held)
       do m = 1, sim%ph%nflow
         do b = 1, size(sim%blocks)
           n = sim%blocks(b)%n
@@ -229,6 +230,8 @@ contains
         ! (a checkpoint written before the closing exchange counts from the restart on)
         sim%cut%closing = 0.0_wp
         if (h5_has_attr(f, 'cut_closing')) call h5_read_attr(f, 'cut_closing', sim%cut%closing)
+        sim%cut%held = 0.0_wp
+        if (h5_has_attr(f, 'cut_held')) call h5_read_attr(f, 'cut_held', sim%cut%held)
         do m = 1, sim%ph%nflow
           call h5_read_field(f, trim(content_names(m)), sim%lay, ids, data)
           do b = 1, size(sim%blocks)

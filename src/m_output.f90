@@ -197,7 +197,8 @@ contains
     ! fills at the density of its states (their difference is the drift, theory.md 7c)
     if (sim%cut%on) cols = [character(len=name_len) :: cols, 'cut_mass', 'cut_energy', &
       'cut_volume', 'cut_in_mass', 'cut_in_energy', 'cut_stranded_mass', &
-      'cut_stranded_energy', 'cut_content_volume', 'cut_closing_cells', 'cut_closing_heat']
+      'cut_stranded_energy', 'cut_content_volume', 'cut_closing_cells', 'cut_closing_heat', &
+      'cut_held_cells']
     do l = 1, sim%ls%n
       if (sim%ls%kind(l) /= ls_material) cycle
       cols = [character(len=name_len) :: cols, &
@@ -248,7 +249,7 @@ contains
       cut_tot(6:7) = sim%cut%stranded
       cut_tot(1:3) = sums(8:10)
       cut_tot(8) = sums(11)
-      v = [v, cut_tot, sim%cut%closing]
+      v = [v, cut_tot, sim%cut%closing, sim%cut%held]
     end if
     nb = 0
     if (sim%ls%n > 0) nb = count(sim%ls%kind == ls_material)

@@ -33,6 +33,7 @@ module m_gfm_cut
   use m_runge_kutta, only: rk_blend
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void
   use m_levelset_cut, only: levelset_cut
+  use m_eos, only: eos_pressure, eos_sound_speed2
   use m_gfm_cut_cells, only: full, full_density, group_roots, on_open
   implicit none
   private
@@ -66,8 +67,10 @@ module m_gfm_cut
     real(wp), allocatable :: side(:, :, :)        !< (mass, energy; stage; block) rates in
     real(wp), allocatable :: out(:, :)            !< (crossed out: mass, energy; stranded:
                                                   !< mass, energy; closing: cells, heat;
-                                                  !< block) by the cell rules
+                                                  !< held cells; block) by the cell rules
     real(wp) :: closing(2) = 0.0_wp               !< closing cells (cell-steps), their heat
+    real(wp) :: held = 0.0_wp                     !< drained full cells given a cut cell's
+                                                  !< density (cell-stages)
   end type cut_t
 
 contains
@@ -282,6 +285,22 @@ contains
       kind = 0
       where (ai > 0.0_wp .and. cut%c(1:n(1), 1:n(2), 1:n(3), i_rho, b) > 0.0_wp) kind = 2
       where (kind == 2 .and. .not. ai < full) kind = 1
+      ! a full cell beside the surface whose content, at its own density, has no real sound
+      ! speed (drained below the density the material beside it has: the level set of a
+      ! material body drifts ahead of its content, theory.md 7c) takes a cut cell's density,
+      ! so that the drift stays a partly filled cell rather than a tension no material holds;
+      ! counted at every stage (history.csv cut_held_cells)
+      do k = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
+            if (kind(i, j, k) /= 1) cycle
+            if (.not. beside_surface([i, j, k])) cycle
+            if (sounds(cut%c(i, j, k, i_rho, b), cut%c(i, j, k, 1:nf, b))) cycle
+            kind(i, j, k) = 2
+            if (allocated(cut%out)) cut%out(7, b) = cut%out(7, b) + 1.0_wp
+          end do
+        end do
+      end do
       do m = 1, nf
         if (final) then
           where (.not. ai > 0.0_wp) cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = 0.0_wp
@@ -302,7 +321,8 @@ contains
         do j = 1, n(2)
           do i = 1, n(1)
             if (kind(i, j, k) == 2) then
-              ! a cut cell: its content per mass at the density of the material beside it
+              ! a cut cell (or a drained full cell): its content per mass at the density of
+              ! the material beside it
               cc = cut%c(i, j, k, 1:nf, b)
               q(i, j, k, lo:lo + nf - 1) = cc * (reference_density([i, j, k], cc) / cc(i_rho))
             end if
@@ -414,14 +434,61 @@ contains
     !> The density a cut cell c0 takes: that of the full cells beside it (full_density),
     !> else (a sliver with no full cell near) the density it had at the step's start (its
     !> state, or the ghost state beside the phase of a cell just reached), else its own
-    !> content over its fraction.
+    !> content over its fraction, else the phase's rest density: the first of these at which
+    !> the content's energy per mass gives a real sound speed (a sliver whose level set
+    !> encloses much more than its content fills would otherwise be put in deep tension,
+    !> c^2 < 0: the foot of the 400 m/s Taylor bar at 28.7 us, 0.62 rho0 at -77 GPa).
     real(wp) function reference_density(c0, cc0) result(rho)
       integer, intent(in) :: c0(3)
       real(wp), intent(in) :: cc0(:)
-      rho = full_density(blk%lay, blk%offset, e, alpha_e, cq(:, :, :, i_rho), c0)
-      if (.not. rho > 0.0_wp) rho = blk%q0(c0(1), c0(2), c0(3), lo + i_rho - 1)
-      if (.not. rho > 0.0_wp) rho = cc0(i_rho) / alpha(c0(1), c0(2), c0(3))
+      real(wp) :: cand(4)
+      integer :: l
+      cand(1) = full_density(blk%lay, blk%offset, e, alpha_e, cq(:, :, :, i_rho), c0)
+      cand(2) = blk%q0(c0(1), c0(2), c0(3), lo + i_rho - 1)
+      cand(3) = cc0(i_rho) / alpha(c0(1), c0(2), c0(3))
+      cand(4) = ph%rest(1, cut%p)
+      rho = cand(3)
+      do l = 1, 4
+        if (.not. cand(l) > 0.0_wp) cycle
+        if (.not. sounds(cand(l), cc0)) cycle
+        rho = cand(l)
+        return
+      end do
     end function reference_density
+
+    !> whether content cc0 at density rho0 (its energy and velocity per mass) has a real,
+    !> finite sound speed
+    logical function sounds(rho0, cc0)
+      real(wp), intent(in) :: rho0, cc0(:)
+      real(wp) :: r1(1), e1(1), p1(1), c21(1)
+      sounds = .false.
+      if (.not. (rho0 > 0.0_wp .and. cc0(i_rho) > 0.0_wp)) return
+      r1 = rho0
+      e1 = cc0(i_en) / cc0(i_rho) - 0.5_wp * sum(cc0(i_mx:i_mz)**2) / cc0(i_rho)**2
+      call eos_pressure(ph%eos(cut%p), 1, r1, e1, p1)
+      call eos_sound_speed2(ph%eos(cut%p), 1, r1, p1, c21)
+      sounds = c21(1) > 0.0_wp .and. c21(1) <= huge(1.0_wp)
+    end function sounds
+
+    !> whether a face neighbour of interior cell c0 is not full (the surface is beside it)
+    logical function beside_surface(c0)
+      integer, intent(in) :: c0(3)
+      integer :: nb(3, 2 * blk%lay%ndim), l
+      nb = faces_of(c0)
+      beside_surface = any([(alpha(nb(1, l), nb(2, l), nb(3, l)) < full, l = 1, size(nb, 2))])
+    end function beside_surface
+
+    !> the face neighbours of cell c0 (low, high along each active direction)
+    function faces_of(c0) result(nb)
+      integer, intent(in) :: c0(3)
+      integer :: nb(3, 2 * blk%lay%ndim), d
+      do d = 1, blk%lay%ndim
+        nb(:, 2 * d - 1) = c0
+        nb(d, 2 * d - 1) = c0(d) - 1
+        nb(:, 2 * d) = c0
+        nb(d, 2 * d) = c0(d) + 1
+      end do
+    end function faces_of
 
     logical function on_open_side(c0)
       integer, intent(in) :: c0(3)
@@ -431,16 +498,13 @@ contains
     !> whether some face neighbour of cell c0 has joined its group
     logical function has_members(c0) result(yes)
       integer, intent(in) :: c0(3)
-      integer :: d, s, nb(3)
+      integer :: nb(3, 2 * blk%lay%ndim), l
       yes = .false.
-      do d = 1, blk%lay%ndim
-        do s = -1, 1, 2
-          nb = c0
-          nb(d) = nb(d) + s
-          ! (only a small cell joins a group)
-          if (.not. filled(nb(1) + e(1), nb(2) + e(2), nb(3) + e(3)) < cut%small) cycle
-          if (all(root(:, nb(1), nb(2), nb(3)) == c0)) yes = .true.
-        end do
+      nb = faces_of(c0)
+      do l = 1, size(nb, 2)
+        ! (only a small cell joins a group)
+        if (.not. filled(nb(1, l) + e(1), nb(2, l) + e(2), nb(3, l) + e(3)) < cut%small) cycle
+        if (all(root(:, nb(1, l), nb(2, l), nb(3, l)) == c0)) yes = .true.
       end do
     end function has_members
 

@@ -67,7 +67,7 @@ contains
       if (stage == 1) then
         ! this step's budget per block (a step that is redone starts it again)
         if (allocated(cut%side)) deallocate(cut%side, cut%out)
-        allocate(cut%side(2, 3, size(blocks)), cut%out(6, size(blocks)))
+        allocate(cut%side(2, 3, size(blocks)), cut%out(7, size(blocks)))
         cut%side = 0.0_wp
         cut%out = 0.0_wp
       end if
@@ -229,7 +229,7 @@ contains
     real(wp), allocatable :: share(:, :, :)   !< content over state: the wet part
     real(wp), allocatable :: step(:, :)       !< this step's budget terms per block
     real(wp) :: w(3)                          !< the stages' weights
-    real(wp) :: total(6)
+    real(wp) :: total(7)
     integer :: b, p, m, lo(3), hi(3), n(3), v0
     if (.not. cut%on) return
     if (mode == states_end .or. mode == states_start) &
@@ -328,17 +328,18 @@ contains
     if (failed) return
     ! what came in through the domain's sides in this step (the stages' weights) and what
     ! the cell rules sent out or stranded, summed over the blocks in the order of their ids
-    allocate(step(6, size(blocks)))
+    allocate(step(7, size(blocks)))
     w = rk_weights(order)
     do b = 1, size(blocks)
       step(1:2, b) = dt * (cut%side(:, 1, b) * w(1) + cut%side(:, 2, b) * w(2) &
         + cut%side(:, 3, b) * w(3)) + cut%out(1:2, b)
-      step(3:6, b) = cut%out(3:6, b)
+      step(3:7, b) = cut%out(3:7, b)
     end do
     total = comm_sum_by_key(step, blocks%id, lay%nblocks)
     cut%crossed = cut%crossed + total(1:2)
     cut%stranded = cut%stranded + total(3:4)
     cut%closing = cut%closing + total(5:6)
+    cut%held = cut%held + total(7)
   end subroutine phase_states
 
 end module m_gfm_stage
