@@ -335,7 +335,7 @@ contains
         + cut%side(:, 3, b) * w(3)) + cut%out(1:2, b)
       step(3:7, b) = cut%out(3:7, b)
     end do
-    total = comm_sum_by_key(step, blocks%id, lay%nblocks)
+    total = comm_sum_by_key(step, [(blocks(b)%id, b = 1, size(blocks))], lay%nblocks)
     cut%crossed = cut%crossed + total(1:2)
     cut%stranded = cut%stranded + total(3:4)
     cut%closing = cut%closing + total(5:6)
