@@ -39,7 +39,7 @@ module m_material_library
   real(wp), parameter :: hmx_c_g = 14240.0e6_wp / (2.0_wp * (1.0_wp + 0.31_wp))
   real(wp), parameter :: htpb_g = 2.5e6_wp / (2.0_wp * (1.0_wp + 0.45_wp))
 
-  integer, parameter :: n_entries = 12
+  integer, parameter :: n_entries = 13
   type(material_t), parameter :: entries(n_entries) = [ &
     ! Air as an ideal gas: e = cv T, so p0 / ((gamma - 1) rho0 cv) = T0 to 4 digits.
     material_t(name='air', eos='ideal_gas', rho0=1.225_wp, p0=101325.0_wp, gamma=1.4_wp, &
@@ -82,6 +82,11 @@ module m_material_library
       c0=2901.0_wp, s=2.38_wp, gruneisen=1.1_wp, cv=1000.0_wp, T0=room_T, &
       strength_model='perfectly_plastic', shear_modulus=hmx_g, yield0=hmx_yield, &
       taylor_quinney=tq), &
+    ! HMX, section A exactly as printed (c0 2058 m/s, no strength): the set that reproduces
+    ! the dissertation as it reads; 'hmx' is the same section with c0 chosen (materials.md).
+    material_t(name='hmx_a', eos='mie_gruneisen', rho0=1900.0_wp, p0=0.0_wp, &
+      c0=2058.0_wp, s=2.38_wp, gruneisen=1.1_wp, cv=1000.0_wp, T0=room_T, &
+      strength_model='none'), &
     ! HMX, section B (mesoscale PBX under a piston); B prints no cv: section A's.
     material_t(name='hmx_b', eos='mie_gruneisen', rho0=1900.0_wp, p0=0.0_wp, &
       c0=2901.0_wp, s=2.058_wp, gruneisen=1.1_wp, cv=1000.0_wp, T0=room_T, &
