@@ -1,6 +1,7 @@
 !> What a run writes (DESIGN section 7): plot files (fields + XDMF) and the diagnostics of a
 !> history row. The HDF5 calls live in m_hdf5_io; here the solver state becomes named
-!> fields. Checkpoints and restarts are m_checkpoint's.
+!> fields. Checkpoints and restarts are m_checkpoint's. Before any of it, output_prepare
+!> makes out_dir ready: earlier results are kept unless overwrite is set.
 module m_output
   use m_kinds, only: wp, name_len, path_len
   use m_simulation, only: sim_t
@@ -10,17 +11,22 @@ module m_output
   use m_eos, only: eos_temperature, eos_sound_speed2
   use m_hdf5_io, only: h5_file_t, h5_create, h5_close, h5_write_attr, h5_write_field
   use m_xdmf, only: xdmf_write
-  use m_comm, only: comm_sum_by_key, comm_max, comm_sum
+  use m_comm, only: comm_sum_by_key, comm_max, comm_sum, comm_is_root
   use m_levelset_bodies, only: ls_region, ls_material
   use m_gfm_cut, only: cut_content
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
-  use m_config, only: is_set, material_index
+  use m_config, only: config_t, is_set, material_index
   use m_hotspot, only: hot_t, hot_columns, hot_row_start, hot_block, hot_cell, hot_row
-  use m_kinds, only: i8
+  use m_kinds, only: i8, line_len
+  use m_errors, only: stop_collective
+  use m_text, only: base_name, normal_path
+  use m_deck_text, only: quoted, dir_name
+  use m_deck_schema, only: error_line
+  use m_deck, only: deck_write_resolved
   implicit none
   private
-  public :: output_plot
+  public :: output_plot, output_prepare
   public :: history_columns, history_values
 
   public :: step_file_name
@@ -456,5 +462,63 @@ contains
       if (d > sim%lay%ndim) m(1 + 2 * d:2 + 2 * d) = 0.0_wp
     end do
   end function body_measures
+
+  !> Check out_dir, create it, and write the resolved deck there (out_dir/deck.nml, by
+  !> m_deck's deck_write_resolved). Collective. A refusal is a deck error of &run out_dir. Results already in out_dir stop the run unless overwrite is set or the
+  !> run restarts from a checkpoint in that same folder (a restart continues a run; that the
+  !> checkpoint is one, output_restart_check of m_checkpoint has made sure before).
+  subroutine output_prepare(cfg)
+    type(config_t), intent(in) :: cfg
+    character(len=:), allocatable :: dir
+    character(len=2 * path_len + line_len) :: msg
+    logical :: ok, continuing
+    integer :: ios, stat, cmd_stat
+    ok = .true.
+    msg = ''
+    if (comm_is_root()) then
+      dir = normal_path(cfg%out_dir)
+      continuing = len_trim(cfg%restart) > 0 .and. dir_name(cfg%restart) == dir
+      if (.not. continuing .and. .not. cfg%overwrite) then
+        if (holds_results(dir)) call refuse("'" // trim(cfg%out_dir) &
+          // "' already holds results (set overwrite = .true. or choose another out_dir)", '')
+      else if (.not. continuing) then
+        ! a fresh run replaces the results it overwrites: an old plot file with a later step
+        ! number must not pass for this run's last one
+        call execute_command_line('cd ' // quoted(dir, shell=.true.) // ' 2>/dev/null && rm -f ' &
+          // 'run.log history.csv plot_*.h5 plot_*.xmf chk_*.h5', exitstat=stat, cmdstat=cmd_stat)
+      end if
+      if (ok) then
+        call execute_command_line('mkdir -p ' // quoted(dir, shell=.true.), exitstat=stat, &
+          cmdstat=cmd_stat)
+        if (stat /= 0 .or. cmd_stat /= 0) call refuse("cannot create '" // dir &
+          // "' (check the path and permissions)", "'out/sod'")
+      end if
+      if (ok) then
+        call deck_write_resolved(cfg, dir // '/deck.nml', ios)
+        if (ios /= 0) call refuse("cannot write '" // dir // "/deck.nml' (check permissions)", &
+          "'out/sod'")
+      end if
+    end if
+    call stop_collective(msg, ok)
+
+  contains
+
+    !> the error of out_dir (the first: what would follow it is not tried)
+    subroutine refuse(why, typical)
+      character(len=*), intent(in) :: why, typical
+      ok = .false.
+      msg = error_line(base_name(cfg%deck_file), '&run out_dir', why, typical)
+    end subroutine refuse
+
+  end subroutine output_prepare
+
+  !> Whether a folder holds results of a run: run.log, history.csv, plot_*.h5, chk_*.h5.
+  logical function holds_results(dir)
+    character(len=*), intent(in) :: dir
+    integer :: stat, cmd_stat
+    call execute_command_line('ls -1A ' // quoted(dir, shell=.true.) // ' 2>/dev/null | grep -Eq ' &
+      // "'^(run\.log|history\.csv|(plot_.*|chk_.*)\.h5)$'", exitstat=stat, cmdstat=cmd_stat)
+    holds_results = (cmd_stat == 0 .and. stat == 0)
+  end function holds_results
 
 end module m_output

@@ -11,7 +11,8 @@ program sabre
   use m_config, only: config_t
   use m_comm, only: comm_init, comm_exit, comm_wtime, comm_rank
   use m_errors, only: log_open, log_close, log_line
-  use m_deck, only: deck_read, deck_prepare_output
+  use m_deck, only: deck_read
+  use m_output, only: output_prepare
   use m_hdf5_io, only: h5_init, h5_finalize
   use m_simulation, only: sim_t, sim_setup, sim_paint_initial_state
   use m_gfm_stage, only: phase_states, states_start
@@ -52,7 +53,7 @@ program sabre
   call deck_read(trim(deck_path), overrides, cfg)
   call sim_setup(cfg, sim)
   if (len_trim(cfg%restart) > 0) call output_restart_check(sim, cfg%restart)
-  call deck_prepare_output(cfg)
+  call output_prepare(cfg)
   call log_open(trim(cfg%out_dir) // '/run.log')
   sim%clk%wall_start = wall
   call write_run_header(sim)

@@ -4,18 +4,17 @@
 !> finds the same errors. The text is split by m_deck_parse; each assignment is found in the
 !> table of m_deck_schema, checked for form, count and index and read into the component its
 !> line points at (repeated &material and &body groups start from defaults); m_deck_check
-!> resolves and checks the whole. deck_prepare_output checks out_dir (earlier results are kept
-!> unless overwrite is set), creates the folder and writes the resolved deck there:
-!> deck_write_resolved writes every value of the table, defaults filled in, so that deck_read
-!> of it gives back the same configuration bit for bit. No physics (eos/, scene/).
+!> resolves and checks the whole. deck_write_resolved writes every value of the table,
+!> defaults filled in, so that deck_read of it gives back the same configuration bit for bit
+!> (m_output's output_prepare puts it in out_dir). No physics (eos/, scene/).
 module m_deck
-  use m_kinds, only: path_len, line_len
+  use m_kinds, only: line_len
   use m_config, only: config_t, max_materials, max_bodies
   use m_errors, only: stop_collective
   use m_comm, only: comm_bcast, comm_is_root
   use m_material_library, only: library_lookup
-  use m_text, only: int_text, base_name, normal_path, file_text
-  use m_deck_text, only: to_lower, edit_distance, quoted, in_list, joined, dir_name
+  use m_text, only: int_text, base_name, file_text
+  use m_deck_text, only: to_lower, edit_distance, quoted, in_list, joined
   use m_deck_parse, only: deck_var_t, deck_assign_t, deck_group_t, deck_split, first_group, &
     assign_value, value_text
   use m_deck_schema, only: deck_table, group_table, group_names, var_index, fail, fail_now, &
@@ -23,7 +22,7 @@ module m_deck
   use m_deck_check, only: deck_check
   implicit none
   private
-  public :: deck_read, deck_prepare_output
+  public :: deck_read, deck_write_resolved
 
 contains
 
@@ -232,64 +231,6 @@ contains
     ! the variable meant is then missing, but that is the same mistake
     if (d(best) < 3) call deck_error_mark('&' // gname // ' ' // to_lower(trim(vars(best)%name)))
   end subroutine fail_unknown_var
-
-  !> Check out_dir, create it, and write the resolved deck there (out_dir/deck.nml).
-  !> Collective. Results already in out_dir stop the run unless overwrite is set or the
-  !> run restarts from a checkpoint in that same folder (a restart continues a run; that the
-  !> checkpoint is one, output_restart_check of m_checkpoint has made sure before).
-  subroutine deck_prepare_output(cfg)
-    type(config_t), intent(in) :: cfg
-    character(len=:), allocatable :: dir
-    character(len=2 * path_len + line_len) :: msg
-    logical :: ok, continuing
-    integer :: ios, stat, cmd_stat
-    ok = .true.
-    msg = ''
-    if (comm_is_root()) then
-      dir = normal_path(cfg%out_dir)
-      continuing = len_trim(cfg%restart) > 0 .and. dir_name(cfg%restart) == dir
-      if (.not. continuing .and. .not. cfg%overwrite) then
-        if (holds_results(dir)) call refuse("'" // trim(cfg%out_dir) &
-          // "' already holds results (set overwrite = .true. or choose another out_dir)", '')
-      else if (.not. continuing) then
-        ! a fresh run replaces the results it overwrites: an old plot file with a later step
-        ! number must not pass for this run's last one
-        call execute_command_line('cd ' // quoted(dir, shell=.true.) // ' 2>/dev/null && rm -f ' &
-          // 'run.log history.csv plot_*.h5 plot_*.xmf chk_*.h5', exitstat=stat, cmdstat=cmd_stat)
-      end if
-      if (ok) then
-        call execute_command_line('mkdir -p ' // quoted(dir, shell=.true.), exitstat=stat, &
-          cmdstat=cmd_stat)
-        if (stat /= 0 .or. cmd_stat /= 0) call refuse("cannot create '" // dir &
-          // "' (check the path and permissions)", "'out/sod'")
-      end if
-      if (ok) then
-        call deck_write_resolved(cfg, dir // '/deck.nml', ios)
-        if (ios /= 0) call refuse("cannot write '" // dir // "/deck.nml' (check permissions)", &
-          "'out/sod'")
-      end if
-    end if
-    call stop_collective(msg, ok)
-
-  contains
-
-    !> the error of out_dir (the first: what would follow it is not tried)
-    subroutine refuse(why, typical)
-      character(len=*), intent(in) :: why, typical
-      ok = .false.
-      msg = error_line(base_name(cfg%deck_file), '&run out_dir', why, typical)
-    end subroutine refuse
-
-  end subroutine deck_prepare_output
-
-  !> Whether a folder holds results of a run: run.log, history.csv, plot_*.h5, chk_*.h5.
-  logical function holds_results(dir)
-    character(len=*), intent(in) :: dir
-    integer :: stat, cmd_stat
-    call execute_command_line('ls -1A ' // quoted(dir, shell=.true.) // ' 2>/dev/null | grep -Eq ' &
-      // "'^(run\.log|history\.csv|(plot_.*|chk_.*)\.h5)$'", exitstat=stat, cmdstat=cmd_stat)
-    holds_results = (cmd_stat == 0 .and. stat == 0)
-  end function holds_results
 
   !> Write cfg as a deck: every group, every variable of the table in its order, defaults
   !> filled in; deck_read gives back the same cfg. Reals left unset on purpose are written as

@@ -22,6 +22,7 @@ module m_deck_check
   use m_deck_schema, only: rule, deck_table, var_index, deck_error_count, deck_has_error, &
     deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
+  use m_layout, only: n_halo, layout_block_size
   implicit none
   private
   public :: deck_check
@@ -46,7 +47,6 @@ module m_deck_check
   !> the standard output fields; T, eps_p and seq only where they apply (deck_check)
   character(len=5), parameter :: default_fields(9) = [character(len=5) :: 'rho', 'u', 'v', &
     'w', 'p', 'e', 'T', 'eps_p', 'seq']
-  integer, parameter :: min_block = 4   !< cells: the halo is 4 deep
 
 contains
 
@@ -127,7 +127,7 @@ contains
       call rule(.not. given('domain', 'hi'), 'domain hi', 'missing required value')
       do d = 1, 3
         dd = '(' // int_text(d) // ')'
-        call rule(d <= nd .and. cfg%cells(d) < min_block, 'domain cells' // dd, &
+        call rule(d <= nd .and. cfg%cells(d) < n_halo, 'domain cells' // dd, &
           'must be >= 4 in a direction d <= ' // nd_text // ' (a block holds at least 4 ' &
           // 'cells: the halo is 4 deep)' // gi(cfg%cells(d)))
         call rule(d > nd .and. cfg%cells(d) /= 1, 'domain cells' // dd, &
@@ -142,14 +142,14 @@ contains
         else if (deck_has_error('&domain cells')) then
           cycle
         else if (cfg%block(d) == 0) then
-          cfg%block(d) = default_block(cfg%cells(d), nd)
+          cfg%block(d) = layout_block_size(cfg%cells(d), nd)
         else
-          call rule(cfg%block(d) < min_block, 'domain block(' // int_text(d) // ')', &
+          call rule(cfg%block(d) < n_halo, 'domain block(' // int_text(d) // ')', &
             'must be >= 4 cells (the halo is 4 deep; 0 = chosen for you)' // gi(cfg%block(d)))
         end if
         ! any block size goes: the last block along d takes what is left (m_layout); one
         ! larger than the domain is the domain
-        if (d <= nd .and. cfg%cells(d) >= min_block) cfg%block(d) = min(cfg%block(d), &
+        if (d <= nd .and. cfg%cells(d) >= n_halo) cfg%block(d) = min(cfg%block(d), &
           cfg%cells(d))
       end do
       do d = 1, nd
@@ -505,22 +505,6 @@ contains
         // in // got)
     end do
   end subroutine check_allowed
-
-  !> Cells per block along a direction of n cells (manual/user-guide.md, Blocks): a target of
-  !> 64 cells in 1D, 64^2 in 2D and 32^3 in 3D (the halo adds 12 %, 27 % and 95 %), n itself
-  !> when n is no larger; else the largest divisor of n between half the target and the
-  !> target, so that all blocks are whole, and the target itself when there is none (the
-  !> last block takes the rest). Independent of the rank count, so that a deck resolves to
-  !> the same blocks (and the same results) on any number of ranks.
-  integer function default_block(n, nd) result(b)
-    integer, intent(in) :: n, nd
-    integer :: target
-    target = merge(32, 64, nd == 3)
-    b = n
-    if (n <= target) return
-    b = findloc([(mod(n, b) == 0, b = target, target / 2, -1)], .true., 1)
-    b = merge(target + 1 - b, target, b > 0)
-  end function default_block
 
   !> ', got <x>' for a message
   function gr(x) result(t)
