@@ -20,8 +20,7 @@ module m_output
   use m_hotspot, only: hot_t, hot_columns, hot_row_start, hot_block, hot_cell, hot_row
   use m_kinds, only: i8, line_len
   use m_errors, only: stop_collective
-  use m_text, only: base_name, normal_path
-  use m_deck_text, only: quoted, dir_name
+  use m_text, only: base_name, normal_path, dir_name, replaced
   use m_deck_schema, only: error_line
   use m_deck, only: deck_write_resolved
   implicit none
@@ -484,11 +483,11 @@ contains
       else if (.not. continuing) then
         ! a fresh run replaces the results it overwrites: an old plot file with a later step
         ! number must not pass for this run's last one
-        call execute_command_line('cd ' // quoted(dir, shell=.true.) // ' 2>/dev/null && rm -f ' &
+        call execute_command_line('cd ' // shell_word(dir) // ' 2>/dev/null && rm -f ' &
           // 'run.log history.csv plot_*.h5 plot_*.xmf chk_*.h5', exitstat=stat, cmdstat=cmd_stat)
       end if
       if (ok) then
-        call execute_command_line('mkdir -p ' // quoted(dir, shell=.true.), exitstat=stat, &
+        call execute_command_line('mkdir -p ' // shell_word(dir), exitstat=stat, &
           cmdstat=cmd_stat)
         if (stat /= 0 .or. cmd_stat /= 0) call refuse("cannot create '" // dir &
           // "' (check the path and permissions)", "'out/sod'")
@@ -516,9 +515,16 @@ contains
   logical function holds_results(dir)
     character(len=*), intent(in) :: dir
     integer :: stat, cmd_stat
-    call execute_command_line('ls -1A ' // quoted(dir, shell=.true.) // ' 2>/dev/null | grep -Eq ' &
+    call execute_command_line('ls -1A ' // shell_word(dir) // ' 2>/dev/null | grep -Eq ' &
       // "'^(run\.log|history\.csv|(plot_.*|chk_.*)\.h5)$'", exitstat=stat, cmdstat=cmd_stat)
     holds_results = (cmd_stat == 0 .and. stat == 0)
   end function holds_results
+
+  !> t as one word of a shell command: in single quotes, an inner quote as '\''.
+  function shell_word(t) result(r)
+    character(len=*), intent(in) :: t
+    character(len=:), allocatable :: r
+    r = "'" // replaced(trim(t), "'", "'\''") // "'"
+  end function shell_word
 
 end module m_output

@@ -1,11 +1,11 @@
-!> Text helpers that the whole code uses: an integer as text, a path written one way only
-!> and its last component, the place of a name in a list of choices (the names a module
+!> Text helpers that the whole code uses: an integer as text, a path written one way only,
+!> its last component and its folder, a text with one substring replaced by another, the place of a name in a list of choices (the names a module
 !> exports for a deck variable), and a whole file as one string (a deck, the resolved deck).
 module m_text
   use m_errors, only: fatal
   implicit none
   private
-  public :: int_text, base_name, normal_path, choice_index, file_text
+  public :: int_text, base_name, dir_name, normal_path, replaced, choice_index, file_text
 
 contains
 
@@ -24,6 +24,28 @@ contains
     r = normal_path(path)
     if (len(r) > 1) r = r(index(r, '/', back=.true.) + 1:)
   end function base_name
+
+  !> The folder part of a path, normalised ('./a//b/c.h5' -> 'a/b', 'c.h5' -> '.').
+  function dir_name(path) result(r)
+    character(len=*), intent(in) :: path
+    character(len=:), allocatable :: r
+    r = normal_path(path(1:index(trim(path), '/', back=.true.)))
+  end function dir_name
+
+  !> t with every old replaced by new (quoting: an inner quote doubled, or as '\'' for a shell).
+  function replaced(t, old, new) result(r)
+    character(len=*), intent(in) :: t, old, new
+    character(len=:), allocatable :: r, rest
+    integer :: k
+    r = ''
+    rest = t
+    do while (index(rest, old) > 0)
+      k = index(rest, old)
+      r = r // rest(1:k - 1) // new
+      rest = rest(k + len(old):)
+    end do
+    r = r // rest
+  end function replaced
 
   !> A path written one way only: no '//', no '/./', no leading './', no trailing '/'.
   function normal_path(path) result(r)

@@ -23,6 +23,7 @@ module m_deck_check
     deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
   use m_layout, only: n_halo, layout_block_size
+  use m_scene, only: boxes_cover
   implicit none
   private
   public :: deck_check
@@ -296,8 +297,9 @@ contains
           if (fields_given .and. any(cfg%fields(1:cfg%n_fields) == 'T')) &
             why_t = 'the output field T'
           if (interfaces) why_rho = 'the rest state of a scene with level sets'
-          if (m%name == cfg%base_material .and. .not. base_covered()) &
-            why_rho = 'the base material outside its bodies'
+          ! (the boxes of the base material only set its initial state)
+          if (m%name == cfg%base_material .and. .not. boxes_cover(cfg%bodies(1:cfg%n_bodies), &
+            m%name, cfg%ndim, cfg%lo, cfg%hi)) why_rho = 'the base material outside its bodies'
           why_p = why_rho
           do i = 1, cfg%n_bodies
             associate(b => cfg%bodies(i))
@@ -318,45 +320,6 @@ contains
         end associate
       end do
     end subroutine check_gas_needs
-
-    !> Whether the boxes of the base material (bodies that only set its initial state) cover
-    !> the whole domain: the centre of every cell of the grid that the boxes' faces make is
-    !> inside one.
-    logical function base_covered() result(covered)
-      real(wp), allocatable :: e(:)
-      real(wp) :: x(2 * cfg%n_bodies + 2, 3), p(3)
-      integer :: n(3), d, i, j, k, b, nb, nd
-      logical :: box(cfg%n_bodies)
-      nb = cfg%n_bodies
-      nd = cfg%ndim
-      box = cfg%bodies(1:nb)%material == cfg%base_material .and. cfg%bodies(1:nb)%shape == 'box'
-      n = 1
-      x = 0.0_wp
-      do d = 1, nd
-        e = [cfg%lo(d), cfg%hi(d)]
-        do b = 1, nb
-          if (box(b)) e = [e, cfg%bodies(b)%lo(d), cfg%bodies(b)%hi(d)]
-        end do
-        e = max(cfg%lo(d), min(cfg%hi(d), e))
-        n(d) = 0
-        do i = 1, size(e)   ! the centre of the span from each edge to the next
-          if (.not. any(e > e(i))) cycle
-          n(d) = n(d) + 1
-          x(n(d), d) = 0.5_wp * (e(i) + minval(e, e > e(i)))
-        end do
-      end do
-      covered = .false.
-      do k = 1, n(3)
-        do j = 1, n(2)
-          do i = 1, n(1)
-            p = [x(i, 1), x(j, 2), x(k, 3)]
-            if (.not. any([(box(b) .and. all(p(1:nd) > cfg%bodies(b)%lo(1:nd) .and. &
-              p(1:nd) < cfg%bodies(b)%hi(1:nd)), b = 1, nb)])) return
-          end do
-        end do
-      end do
-      covered = .true.
-    end function base_covered
 
     !> The &physics switches strength and thermal. Left out, each is on exactly when a
     !> material in use needs it: strength when one has a strength_model other than 'none';

@@ -1,15 +1,14 @@
 !> The small text helpers of the deck modules (DESIGN section 6): lower case, the edit
 !> distance behind "did you mean" hints, reals as deck text (in the shortest form that reads
-!> back bit for bit), quoting for a deck or for the shell, lists written 'a, b, c', and the
-!> folder of a path (the helpers the rest of the code uses too are core/m_text's). Text in,
-!> text out: it knows nothing of groups, variables or the configuration, does no I/O and
-!> never stops the run.
+!> back bit for bit), quoting for a deck and lists written 'a, b, c' (the helpers the rest
+!> of the code uses too are core/m_text's). Text in, text out: it knows nothing of groups,
+!> variables or the configuration, does no I/O and never stops the run.
 module m_deck_text
   use m_kinds, only: wp, i8
-  use m_text, only: int_text, normal_path
+  use m_text, only: int_text, replaced
   implicit none
   private
-  public :: to_lower, edit_distance, real_text, quoted, in_list, joined, dir_name
+  public :: to_lower, edit_distance, real_text, quoted, in_list, joined
 
 contains
 
@@ -88,23 +87,12 @@ contains
     if (x < 0.0_wp) r = '-' // r
   end function real_text
 
-  !> A string in single quotes, the trailing blanks dropped: as a deck value (an inner quote
-  !> doubled) or, with shell, as one word of a shell command (an inner quote as '\'').
-  function quoted(t, shell) result(r)
+  !> A string as a deck value: in single quotes, the trailing blanks dropped, an inner quote
+  !> doubled.
+  function quoted(t) result(r)
     character(len=*), intent(in) :: t
-    logical, intent(in), optional :: shell
-    character(len=:), allocatable :: r, rest, as
-    integer :: k
-    as = "''"
-    if (present(shell)) as = trim(merge("'\''", "''  ", shell))
-    r = "'"
-    rest = trim(t)
-    do while (index(rest, "'") > 0)
-      k = index(rest, "'")
-      r = r // rest(1:k - 1) // as
-      rest = rest(k + 1:)
-    end do
-    r = r // rest // "'"
+    character(len=:), allocatable :: r
+    r = "'" // replaced(trim(t), "'", "''") // "'"
   end function quoted
 
   !> Whether word is one of the items of a list written 'a, b, c'.
@@ -123,12 +111,5 @@ contains
       r = r // ', ' // trim(items(k))
     end do
   end function joined
-
-  !> The folder part of a path, normalised ('./a//b/c.h5' -> 'a/b', 'c.h5' -> '.').
-  function dir_name(path) result(r)
-    character(len=*), intent(in) :: path
-    character(len=:), allocatable :: r
-    r = normal_path(path(1:index(trim(path), '/', back=.true.)))
-  end function dir_name
 
 end module m_deck_text

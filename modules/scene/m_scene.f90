@@ -3,7 +3,8 @@
 !> its signed distance (the initial level set of a body of another material, void or rigid;
 !> manual/interfaces.md), and whether a rigid body covers whole blocks (which are then not
 !> computed and act as exact rigid walls for their neighbours, m_boundary), and the motion of
-!> a moving rigid body, whose level set is its distance at the time of each stage.
+!> a moving rigid body, whose level set is its distance at the time of each stage; whether
+!> the boxes of a material tile the domain (m_deck_check: then it needs no rest state).
 module m_scene
   use m_kinds, only: wp
   use m_config, only: body_t
@@ -13,6 +14,7 @@ module m_scene
   implicit none
   private
   public :: inside_body, cell_centre, rigid_block_status, body_distance, rigid_bodies_move
+  public :: boxes_cover
 
 contains
 
@@ -22,6 +24,47 @@ contains
     real(wp) :: x(3)
     x = lay%lo + (real(offset + [i, j, k], wp) - 0.5_wp) * lay%dx
   end function cell_centre
+
+  !> Whether the boxes among bodies that are of material `material` cover the domain lo..hi
+  !> (its first ndim directions): the centre of every cell of the grid that the boxes' faces
+  !> make is inside one (strictly, unlike inside_body).
+  pure logical function boxes_cover(bodies, material, ndim, lo, hi) result(covered)
+    type(body_t), intent(in) :: bodies(:)
+    character(len=*), intent(in) :: material
+    integer, intent(in) :: ndim
+    real(wp), intent(in) :: lo(3), hi(3)
+    real(wp), allocatable :: e(:)
+    real(wp) :: x(2 * size(bodies) + 2, 3), p(3)
+    integer :: n(3), d, i, j, k, b
+    logical :: box(size(bodies))
+    box = bodies%material == material .and. bodies%shape == 'box'
+    n = 1
+    x = 0.0_wp
+    do d = 1, ndim
+      e = [lo(d), hi(d)]
+      do b = 1, size(bodies)
+        if (box(b)) e = [e, bodies(b)%lo(d), bodies(b)%hi(d)]
+      end do
+      e = max(lo(d), min(hi(d), e))
+      n(d) = 0
+      do i = 1, size(e)   ! the centre of the span from each edge to the next
+        if (.not. any(e > e(i))) cycle
+        n(d) = n(d) + 1
+        x(n(d), d) = 0.5_wp * (e(i) + minval(e, e > e(i)))
+      end do
+    end do
+    covered = .false.
+    do k = 1, n(3)
+      do j = 1, n(2)
+        do i = 1, n(1)
+          p = [x(i, 1), x(j, 2), x(k, 3)]
+          if (.not. any([(box(b) .and. all(p(1:ndim) > bodies(b)%lo(1:ndim) .and. &
+            p(1:ndim) < bodies(b)%hi(1:ndim)), b = 1, size(bodies))])) return
+        end do
+      end do
+    end do
+    covered = .true.
+  end function boxes_cover
 
   !> Is point x (only its first ndim coordinates count) inside the body?
   pure logical function inside_body(body, ndim, x) result(inside)
