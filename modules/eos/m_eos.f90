@@ -27,7 +27,7 @@ module m_eos
   private
   public :: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial
   public :: eos_pressure, eos_energy, eos_sound_speed2, eos_temperature, eos_min_pressure
-  public :: eos_prepare, eos_names, eos_from_material
+  public :: eos_prepare, eos_names, eos_needs, eos_from_material
 
   integer, parameter :: eos_ideal_gas = 1
   integer, parameter :: eos_stiffened_gas = 2
@@ -36,6 +36,11 @@ module m_eos
   !> the deck's names (&material eos): name k stands for kind k
   character(len=24), parameter :: eos_names(4) = [character(len=24) :: 'ideal_gas', &
     'stiffened_gas', 'mie_gruneisen', 'polynomial_mie_gruneisen']
+  !> the &material values each eos needs (m_deck_check asks for them); a gas's rho0, p0 and
+  !> cv are asked for only where the scene uses them
+  character(len=52), parameter :: eos_needs(4) = [character(len=52) :: 'gamma', &
+    'gamma p_inf', 'rho0 p0 c0 s gruneisen cv T0', &
+    'rho0 p0 bulk_modulus poly_a poly_b gruneisen cv T0']
 
   ! Isentrope table (eq. 2.13): nodes eta_j = j deta, eta = 0 is node 0 so that the kink of
   ! the reference curves at rho = rho0 falls on a node; RK4 takes rk4_substeps steps per

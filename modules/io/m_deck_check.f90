@@ -14,8 +14,9 @@ module m_deck_check
   use m_kinds, only: wp, name_len
   use m_config, only: config_t, material_t, is_set, max_materials, material_index
   use m_material_library, only: library_lookup, library_names
-  use m_yield, only: strength_problem, strength_from_material, strength_model_names
-  use m_eos, only: eos_names
+  use m_yield, only: strength_problem, strength_from_material, strength_model_names, &
+    strength_model_needs
+  use m_eos, only: eos_names, eos_needs
   use m_text, only: int_text
   use m_deck_text, only: real_text, in_list, to_lower
   use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
@@ -32,15 +33,8 @@ module m_deck_check
   !> the models with plastic flow, hence plastic work for Taylor-Quinney heating
   character(len=*), parameter :: plastic_models = 'perfectly_plastic, linear_hardening, ' &
     // 'johnson_cook, viscoplastic_power_law'
-  !> what each eos (eos_names) and each strength model (strength_model_names) needs; a
-  !> gas's rho0, p0 and cv are asked for only where the scene uses them (check_gas_needs)
-  character(len=52), parameter :: eos_needs(4) = [character(len=52) :: 'gamma', &
-    'gamma p_inf', 'rho0 p0 c0 s gruneisen cv T0', &
-    'rho0 p0 bulk_modulus poly_a poly_b gruneisen cv T0']
-  character(len=60), parameter :: model_needs(6) = [character(len=60) :: '', &
-    'shear_modulus', 'shear_modulus yield0', 'shear_modulus yield0 hardening_modulus', &
-    'shear_modulus yield0 jc_b jc_n jc_c jc_m t_melt eps_rate0', &
-    'shear_modulus yield0 vp_chi vp_m vp_n']
+  !> the output fields (what each eos and strength model needs is listed beside its name,
+  !> eos_needs of m_eos, strength_model_needs of m_yield)
   character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach, phase, ' &
     // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
   !> the fields of strength only (deviatoric stress, plastic strain, von Mises stress)
@@ -235,7 +229,7 @@ contains
         m%taylor_quinney = 0.9_wp
       if (model == 'johnson_cook' .and. .not. is_set(m%eps_rate0)) m%eps_rate0 = 1.0_wp
       if (deck_error_count() == n_before .and. km > 0) &
-        call need(vars, model_needs(km), "strength_model '" // model // "'" // in_m)
+        call need(vars, strength_model_needs(km), "strength_model '" // model // "'" // in_m)
       ! a perfectly plastic solid without a yield stress is a fluid
       if (is_set(m%yield0)) call rule(model == 'perfectly_plastic' .and. .not. m%yield0 > 0.0_wp, &
         'material yield0', 'must be > 0.0' // in_m // gr(m%yield0))

@@ -23,7 +23,7 @@ module m_yield
   implicit none
   private
   public :: strength_t, strength_from_material, strength_model_from_name, strength_problem
-  public :: strength_model_names
+  public :: strength_model_names, strength_model_needs
   public :: yield_stress, yield_stress_slopes, viscoplastic_rate
   public :: strength_none, strength_elastic, strength_perfectly_plastic
   public :: strength_linear_hardening, strength_johnson_cook, strength_viscoplastic
@@ -38,6 +38,11 @@ module m_yield
   character(len=22), parameter :: strength_model_names(6) = [character(len=22) :: 'none', &
     'elastic', 'perfectly_plastic', 'linear_hardening', 'johnson_cook', &
     'viscoplastic_power_law']
+  !> the &material values each model needs (m_deck_check asks for them)
+  character(len=60), parameter :: strength_model_needs(6) = [character(len=60) :: '', &
+    'shear_modulus', 'shear_modulus yield0', 'shear_modulus yield0 hardening_modulus', &
+    'shear_modulus yield0 jc_b jc_n jc_c jc_m t_melt eps_rate0', &
+    'shear_modulus yield0 vp_chi vp_m vp_n']
 
   real(wp), parameter :: mpa = 1.0e6_wp            !< the power law's stress unit (Pa)
   real(wp), parameter :: exp_max = 700.0_wp        !< exp() argument cap (no overflow)
