@@ -33,13 +33,17 @@ module m_material_library
   ! handbook value, the printed 134 being tungsten's (the table swaps them).
   real(wp), parameter :: steel_rho0 = 7850.0_wp, steel_c0 = 4570.0_wp, steel_s = 1.49_wp, &
     steel_gruneisen = 1.16_wp, steel_cv = 477.0_wp
-  ! HMX of section B: strength (also used by the section-A set, which prints none)
+  ! HMX of section B (the PBX study): strength
   real(wp), parameter :: hmx_g = 7.2e9_wp, hmx_yield = 370.0e6_wp
+  ! HMX of section F (Menikoff, EOSlib): the Hugoniot of the Hayes EOS (K0 13.5 GPa, N 9.3,
+  ! Gamma0 rho = 1.1 rho0, cv 1500, T0 298 K) fitted by least squares as Us = c0 + s up over
+  ! up 0.1-1.5 km/s, the void-collapse speeds (tools/sabre_py/hmx.py; within 1 % of it)
+  real(wp), parameter :: hmx_f_c0 = 2801.0_wp, hmx_f_s = 2.362_wp
   ! Section C gives Young's modulus and Poisson's ratio: G = E / (2 (1 + nu)).
   real(wp), parameter :: hmx_c_g = 14240.0e6_wp / (2.0_wp * (1.0_wp + 0.31_wp))
   real(wp), parameter :: htpb_g = 2.5e6_wp / (2.0_wp * (1.0_wp + 0.45_wp))
 
-  integer, parameter :: n_entries = 13
+  integer, parameter :: n_entries = 14
   type(material_t), parameter :: entries(n_entries) = [ &
     ! Air as an ideal gas: e = cv T, so p0 / ((gamma - 1) rho0 cv) = T0 to 4 digits.
     material_t(name='air', eos='ideal_gas', rho0=1.225_wp, p0=101325.0_wp, gamma=1.4_wp, &
@@ -75,15 +79,13 @@ module m_material_library
       strength_model='johnson_cook', shear_modulus=81.8e9_wp, yield0=0.53e9_wp, &
       jc_b=0.229e9_wp, jc_n=0.302_wp, jc_c=0.027_wp, jc_m=1.0_wp, t_melt=1836.0_wp, &
       eps_rate0=1.0_wp, taylor_quinney=tq), &
-    ! HMX, section A: c0 2901 m/s, not the printed 2058 (rho0 c0^2 would be a bulk modulus
-    ! of 8.0 GPa, below every measured one; 2058 is the s of the 2901 set). Strength from
-    ! section B, elastic-perfectly plastic as in the sharp-interface void studies.
+    ! HMX as physics has it: Menikoff's set (section F, LANL EOSlib), also named hmx_f.
     material_t(name='hmx', eos='mie_gruneisen', rho0=1900.0_wp, p0=0.0_wp, &
-      c0=2901.0_wp, s=2.38_wp, gruneisen=1.1_wp, cv=1000.0_wp, T0=room_T, &
-      strength_model='perfectly_plastic', shear_modulus=hmx_g, yield0=hmx_yield, &
+      c0=hmx_f_c0, s=hmx_f_s, gruneisen=1.1_wp, cv=1500.0_wp, T0=room_T, &
+      strength_model='perfectly_plastic', shear_modulus=12.0e9_wp, yield0=0.26e9_wp, &
       taylor_quinney=tq), &
     ! HMX, section A exactly as printed (c0 2058 m/s, no strength): the set that reproduces
-    ! the dissertation as it reads; 'hmx' is the same section with c0 chosen (materials.md).
+    ! the dissertation as it reads (materials.md).
     material_t(name='hmx_a', eos='mie_gruneisen', rho0=1900.0_wp, p0=0.0_wp, &
       c0=2058.0_wp, s=2.38_wp, gruneisen=1.1_wp, cv=1000.0_wp, T0=room_T, &
       strength_model='none'), &
@@ -98,6 +100,12 @@ module m_material_library
       bulk_modulus=12.5e9_wp, poly_a=22.0e9_wp, poly_b=15.0e9_wp, gruneisen=1.03_wp, &
       cv=2500.0_wp, T0=room_T, strength_model='viscoplastic_power_law', &
       shear_modulus=hmx_c_g, yield0=0.0_wp, vp_chi=1.08_wp, vp_m=-0.79_wp, vp_n=1.58_wp, &
+      taylor_quinney=tq), &
+    ! HMX, section F: Menikoff's EOSlib set. Strength Y 0.26 GPa, G 12 GPa, cv 1.5 kJ/(kg K),
+    ! Gamma0 1.1; the Hayes EOS (K0 13.5 GPa, N 9.3) as its Hugoniot's linear Us-up fit.
+    material_t(name='hmx_f', eos='mie_gruneisen', rho0=1900.0_wp, p0=0.0_wp, &
+      c0=hmx_f_c0, s=hmx_f_s, gruneisen=1.1_wp, cv=1500.0_wp, T0=room_T, &
+      strength_model='perfectly_plastic', shear_modulus=12.0e9_wp, yield0=0.26e9_wp, &
       taylor_quinney=tq), &
     ! Binder of section B: elastic (hyper-elastic, no yield, in the source) with the
     ! polynomial EOS reduced to p = K mu + gruneisen (1 + mu) rho0 e (A = B = 0); B gives
