@@ -27,7 +27,7 @@ module m_config
     real(wp) :: shear_modulus = unset, yield0 = unset, hardening_modulus = unset
     real(wp) :: jc_b = unset, jc_n = unset, jc_c = unset, jc_m = unset, t_melt = unset
     real(wp) :: eps_rate0 = unset, vp_chi = unset, vp_m = unset, vp_n = unset
-    real(wp) :: taylor_quinney = unset
+    real(wp) :: taylor_quinney = unset, melt_slope = unset
   end type material_t
 
   !> One &body group.

@@ -235,6 +235,8 @@ contains
         'material yield0', 'must be > 0.0' // in_m // gr(m%yield0))
       if (is_set(m%T0) .and. is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, &
         'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // gr(m%t_melt))
+      if (is_set(m%melt_slope)) call rule(.not. is_set(m%t_melt), 'material melt_slope', &
+        'needs t_melt, the melt temperature at rho0 (HMX: 550 K)' // in_m)
       ! vp_m < 1 (its line): the flow stress then grows with the rate, the return has one root
       call check_allowed(vars(ks + 1:), in_m)
       ! the strength modules' own test of the parameters, should it know more than the above

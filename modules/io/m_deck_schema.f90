@@ -152,6 +152,8 @@ contains
     call t%add('jc_m', m%jc_m, '1.09', 'Johnson-Cook m', allowed='> 0.0')
     call t%add('t_melt', m%t_melt, '1358.0', 'melt temperature (K): no strength above', &
       allowed='> 0.0')
+    call t%add('melt_slope', m%melt_slope, '1.53', 'Kraut-Kennedy slope a: melt at t_melt (1 + a (1 - ' &
+      // 'rho0 / rho))', allowed='>= 0.0')
     call t%add('eps_rate0', m%eps_rate0, '1.0', 'reference plastic strain rate (1/s)', &
       allowed='> 0.0')
     call t%add('vp_chi', m%vp_chi, '1.08', 'power law rate = chi eps_rate^m sigma^n (MPa^-n)', &

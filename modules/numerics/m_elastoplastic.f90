@@ -6,7 +6,7 @@
 module m_elastoplastic
   use m_kinds, only: wp
   use m_eos, only: eos_t, eos_pressure, eos_energy, eos_temperature
-  use m_yield, only: strength_t
+  use m_yield, only: strength_t, melt_temperature
   use m_plasticity, only: jaumann_source, radial_return
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, i_sxx, i_syy, i_szz, i_sxy, i_syz, &
     i_sxz, i_epsp, i_wcold
@@ -119,7 +119,7 @@ contains
     real(wp), intent(in) :: dt
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     logical, intent(in), optional :: isreal(:, :, :), fresh(:, :, :)
-    real(wp), dimension(lay%bsize(1)) :: rho, u, v, w, p, e, temp, epsp, dwp, epsp0
+    real(wp), dimension(lay%bsize(1)) :: rho, u, v, w, p, e, temp, epsp, dwp, epsp0, tmelt
     real(wp) :: sdev(lay%bsize(1), 6)
     integer :: j, k, m, n
     n = lay%bsize(1)
@@ -141,7 +141,12 @@ contains
         end do
         epsp = q(1:n, j, k, i_epsp) / rho
         epsp0 = epsp
-        call radial_return(st, n, sdev, epsp, temp, dt, dwp)
+        if (st%melt_slope > 0.0_wp) then
+          tmelt = melt_temperature(st, eos%rho0, rho)
+          call radial_return(st, n, sdev, epsp, temp, dt, dwp, tmelt)
+        else
+          call radial_return(st, n, sdev, epsp, temp, dt, dwp)
+        end if
         if (present(fresh)) then
           where (fresh(:, j, k) .or. .not. isreal(:, j, k))
             epsp = epsp0

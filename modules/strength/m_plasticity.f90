@@ -74,8 +74,9 @@ contains
 
   !> Return the trial stresses s (in place) to the yield surface; eps_p is updated, T is the
   !> temperature (thermal softening, melt), dt > 0 the step, dwp the plastic work per unit
-  !> volume of this step (>= 0).
-  pure subroutine radial_return(st, n, s, eps_p, T, dt, dwp)
+  !> volume of this step (>= 0). t_melt, when given, is each point's melt temperature (a melt
+  !> point that rises with compression, m_yield's melt_temperature) in place of st%t_melt.
+  pure subroutine radial_return(st, n, s, eps_p, T, dt, dwp, t_melt)
     type(strength_t), intent(in) :: st
     integer, intent(in) :: n
     real(wp), intent(inout) :: s(n, 6)
@@ -83,6 +84,8 @@ contains
     real(wp), intent(in) :: T(n)
     real(wp), intent(in) :: dt
     real(wp), intent(out) :: dwp(n)
+    real(wp), intent(in), optional :: t_melt(n)
+    type(strength_t) :: sp
     real(wp) :: sig_trial, sig_y, y_start, d, rate
     integer :: i
     dwp = 0.0_wp
@@ -91,13 +94,15 @@ contains
       return
     end if
     call deviator_trace_fix(n, s)
+    sp = st
     do i = 1, n
+      if (present(t_melt)) sp%t_melt = t_melt(i)
       sig_trial = sqrt(1.5_wp * (s(i, 1)**2 + s(i, 2)**2 + s(i, 3)**2) &
         + 3.0_wp * (s(i, 4)**2 + s(i, 5)**2 + s(i, 6)**2))
-      if (.not. sig_trial > yield_stress(st, eps_p(i), 0.0_wp, T(i))) cycle
-      call plastic_increment(st, sig_trial, eps_p(i), T(i), dt, d, sig_y)
+      if (.not. sig_trial > yield_stress(sp, eps_p(i), 0.0_wp, T(i))) cycle
+      call plastic_increment(sp, sig_trial, eps_p(i), T(i), dt, d, sig_y)
       rate = d / dt
-      y_start = yield_stress(st, eps_p(i), rate, T(i))
+      y_start = yield_stress(sp, eps_p(i), rate, T(i))
       s(i, :) = s(i, :) * (sig_y / sig_trial)
       eps_p(i) = eps_p(i) + d
       dwp(i) = 0.5_wp * (y_start + sig_y) * d

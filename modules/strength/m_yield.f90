@@ -14,7 +14,9 @@
 !> published one whenever the plastic rate carries the deformation (sustained flow), and
 !> sigma_y is continuous and increasing from Y0 at rest when m < 1 and n > 0, so the
 !> consistency condition of the radial return has exactly one root. Every model loses its
-!> strength at and above T_melt (sigma_y = 0) when T_melt is given. The module owns the
+!> strength at and above T_melt (sigma_y = 0) when T_melt is given. The melt temperature may
+!> rise with compression (Kraut-Kennedy form, melt_temperature): T_melt(rho) = T_melt0 (1 +
+!> a (1 - rho0 / rho)), a = melt_slope (0: a constant T_melt). The module owns the
 !> parameters (strength_t) and the pointwise formulas; the return mapping lives in
 !> m_plasticity, and nothing here allocates, communicates or writes.
 module m_yield
@@ -24,7 +26,7 @@ module m_yield
   private
   public :: strength_t, strength_from_material, strength_model_from_name, strength_problem
   public :: strength_model_names, strength_model_needs
-  public :: yield_stress, yield_stress_slopes, viscoplastic_rate
+  public :: yield_stress, yield_stress_slopes, viscoplastic_rate, melt_temperature
   public :: strength_none, strength_elastic, strength_perfectly_plastic
   public :: strength_linear_hardening, strength_johnson_cook, strength_viscoplastic
 
@@ -59,7 +61,8 @@ module m_yield
     real(wp) :: jc_c = 0.0_wp
     real(wp) :: jc_m = 1.0_wp
     real(wp) :: t_ref = 298.0_wp
-    real(wp) :: t_melt = huge(1.0_wp)       !< huge: never melts
+    real(wp) :: t_melt = huge(1.0_wp)       !< huge: never melts; at rho0 when melt_slope > 0
+    real(wp) :: melt_slope = 0.0_wp         !< Kraut-Kennedy a; 0: T_melt constant
     real(wp) :: eps_rate0 = 1.0_wp
     real(wp) :: vp_chi = 0.0_wp
     real(wp) :: vp_m = 0.0_wp
@@ -93,6 +96,7 @@ contains
     if (is_set(mat%jc_m)) st%jc_m = mat%jc_m
     if (is_set(mat%t_melt)) st%t_melt = mat%t_melt
     if (is_set(mat%eps_rate0)) st%eps_rate0 = mat%eps_rate0
+    if (is_set(mat%melt_slope)) st%melt_slope = mat%melt_slope
     if (is_set(mat%vp_chi)) st%vp_chi = mat%vp_chi
     if (is_set(mat%vp_m)) st%vp_m = mat%vp_m
     if (is_set(mat%vp_n)) st%vp_n = mat%vp_n
@@ -127,6 +131,8 @@ contains
       .not. st%vp_n > 0.0_wp .or. .not. st%vp_m < 1.0_wp)) then
       msg = 'viscoplastic_power_law needs vp_chi > 0, vp_n > 0 and vp_m < 1 so that the ' // &
         'flow stress grows with the plastic rate (HMX: 1.08, 1.58, -0.79)'
+    else if (st%melt_slope < 0.0_wp) then
+      msg = 'melt_slope must be >= 0: the melt point rises with compression (HMX: 1.53)'
     else if (st%taylor_quinney < 0.0_wp .or. st%taylor_quinney > 1.0_wp) then
       msg = 'taylor_quinney is a fraction of the plastic work, 0 to 1 (metals: 0.9)'
     end if
@@ -187,6 +193,17 @@ contains
       end if
     end select
   end subroutine yield_stress_slopes
+
+  !> The melt temperature at density rho of a material of reference density rho0 (Kraut-
+  !> Kennedy): T_melt (1 + a (1 - rho0 / rho)), rising with compression and falling in
+  !> tension, kept at T_melt / 2 or above (a floor for material stretched far).
+  elemental real(wp) function melt_temperature(st, rho0, rho) result(tm)
+    type(strength_t), intent(in) :: st
+    real(wp), intent(in) :: rho0, rho
+    tm = st%t_melt
+    if (st%melt_slope > 0.0_wp .and. st%t_melt < huge(1.0_wp)) &
+      tm = st%t_melt * max(1.0_wp + st%melt_slope * (1.0_wp - rho0 / rho), 0.5_wp)
+  end function melt_temperature
 
   !> The power law read forwards: the plastic rate (1/s) at which the viscous part of the
   !> flow stress equals sigma_v (Pa), eps_rate_vp = (chi (sigma_v / 1 MPa)^n)^(1/(1 - m)).

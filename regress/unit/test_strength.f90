@@ -11,7 +11,7 @@ program test_strength
   use m_yield, only: strength_t, strength_from_material, strength_model_from_name, &
     strength_problem, yield_stress, strength_none, strength_elastic, &
     strength_perfectly_plastic, strength_linear_hardening, strength_johnson_cook, &
-    strength_viscoplastic
+    strength_viscoplastic, melt_temperature
   use m_plasticity, only: radial_return, von_mises, jaumann_source
   use m_comm, only: comm_init
   use m_test_check, only: check_start, check_error, check_done
@@ -57,6 +57,7 @@ program test_strength
 
   write(6, '(a)') '5. melt'
   call check_melt()
+  call check_melt_rising()
 
   write(6, '(a)') '6. plastic work'
   call check_plastic_work()
@@ -344,6 +345,47 @@ contains
     call check_error('JC copper return below melt: -min sigma_eq', -minval(sig(3:4)), 0.0_wp, &
       shown=minval(sig(3:4)))
   end subroutine check_melt
+
+  !> A melt point rising with compression (Kraut-Kennedy, melt_temperature): HMX's 550 K with
+  !> the slope 1.53 gives 550 (1 + 1.53 (1 - 1900/2200)) = 664.77 K at 2200 kg/m3, 550 K at
+  !> rho0, and the floor 275 K when stretched far; a return given these points' melt
+  !> temperatures removes the strength of a point at 600 K and rho0 (above its 550 K) and
+  !> keeps that of a point at 600 K and 2200 kg/m3 (below its 664.77 K), as the same return with
+  !> the constant t_melt of each point does.
+  subroutine check_melt_rising()
+    integer, parameter :: nt = 4
+    type(strength_t) :: st, one
+    real(wp) :: rho(nt), tm(nt), temps(nt), s(nt, 6), s1(nt, 6), dev(nt, 6), sig(nt)
+    real(wp) :: eps_p(nt), eps1(nt), dwp(nt), dwp1(nt), err
+    integer :: i
+    st = strength_from_material(material_t(name='hmx', strength_model='perfectly_plastic', &
+      shear_modulus=12.0e9_wp, yield0=0.26e9_wp, t_melt=550.0_wp, melt_slope=1.53_wp))
+    rho = [1900.0_wp, 2200.0_wp, 2200.0_wp, 100.0_wp]
+    tm = melt_temperature(st, 1900.0_wp, rho)
+    err = maxval(abs(tm - [550.0_wp, 550.0_wp * (1.0_wp + 1.53_wp * (1.0_wp - 1900.0_wp / &
+      2200.0_wp)), 550.0_wp * (1.0_wp + 1.53_wp * (1.0_wp - 1900.0_wp / 2200.0_wp)), 275.0_wp]))
+    call check_error('Kraut-Kennedy melt temperature at rho0, 2200, 2200, 100 kg/m3 (K)', err, &
+      1.0e-12_wp)
+    temps = [600.0_wp, 600.0_wp, 700.0_wp, 300.0_wp]
+    call random_trials(nt, st%y0, 2.0_wp, 5.0_wp, 1.0_wp, s, dev, sig)
+    s1 = s
+    eps_p = 0.1_wp
+    eps1 = eps_p
+    call radial_return(st, nt, s, eps_p, temps, 1.0e-9_wp, dwp, tm)
+    err = 0.0_wp
+    do i = 1, nt
+      one = st
+      one%t_melt = tm(i)
+      call radial_return(one, 1, s1(i:i, :), eps1(i:i), temps(i:i), 1.0e-9_wp, dwp1(i:i))
+      err = max(err, maxval(abs(s(i, :) - s1(i, :))), abs(dwp(i) - dwp1(i)))
+    end do
+    call check_error('return with per-point melt = return with each constant melt', err, 0.0_wp)
+    call von_mises(nt, s, sig)
+    call check_error('rising melt: above its melt (600 K at rho0, 700 K at 2200) no strength', &
+      max(sig(1), sig(3)), 0.0_wp)
+    call check_error('rising melt: below its melt (600 K at 2200 kg/m3) on the yield surface', &
+      abs(sig(2) - st%y0) / st%y0, 1.0e-12_wp)
+  end subroutine check_melt_rising
 
   !> dwp >= 0 everywhere (checked in 1.) and, for linear hardening, equal to the dissipation
   !> (Y0 + H (eps_p0 + d / 2)) d, the midpoint yield times the increment.
