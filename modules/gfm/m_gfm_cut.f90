@@ -35,10 +35,11 @@ module m_gfm_cut
   use m_levelset_cut, only: levelset_cut
   use m_eos, only: eos_pressure, eos_sound_speed2
   use m_gfm_cut_cells, only: full, full_density, group_roots, on_open
+  use m_gfm_cut_close, only: relax_closing
   implicit none
   private
   public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update, cut_content
-  public :: cut_strand, cut_scalars, cut_follow
+  public :: cut_strand, cut_scalars
 
   !> A block's fractions over the padded block less its outer layer (for the mixing).
   type :: fraction_t
@@ -212,7 +213,7 @@ contains
     real(wp), allocatable :: vol(:), cq(:, :, :, :), filled(:, :, :), ai(:, :, :)
     integer, allocatable :: kind(:, :, :)
     integer :: e(3), n(3), i, j, k, r(3), lo, nf, m
-    real(wp) :: sum_c(ph%nflow), sum_a, cc(ph%nflow), least
+    real(wp) :: sum_c(ph%nflow), sum_a, cc(ph%nflow), least, tally(2)
     lo = ph%lo(cut%p)
     nf = ph%nflow
     associate (lay => blk%lay, q => blk%q)
@@ -226,7 +227,11 @@ contains
       allocate(cq(1-lay%ng(1):n(1)+lay%ng(1), 1-lay%ng(2):n(2)+lay%ng(2), &
         1-lay%ng(3):n(3)+lay%ng(3), nf))
       cq = q(:, :, :, lo:lo + nf - 1)
-      call relax_closing(final)
+      ! (the closing cells' tally accumulates onto the block's, cut%out(5:6, b))
+      tally = 0.0_wp
+      if (allocated(cut%out)) tally = cut%out(5:6, b)
+      call relax_closing(lay, blk%offset, n, e, alpha_e, bigphi, owner, final, cq, tally)
+      if (allocated(cut%out)) cut%out(5:6, b) = tally
       ! the fractions the groups are formed by: a wet cell whose content fills less of it
       ! than its fraction says (a surface the level set has moved ahead of the material, as
       ! where a void closes) counts by its content, at the phase's rest density
@@ -335,96 +340,6 @@ contains
     end associate
 
   contains
-
-    !> A cell every corner of which lies in the phase while its centre lies outside (a
-    !> remnant of a void narrower than the cell, closing; cut_follow closes it at the step's
-    !> end) shows a ghost state to the stencils, so the content its faces bring does not push
-    !> back, and piles up. Until it closes it shares content with each wet face neighbour
-    !> that is not closing too: theta (C_n - C_c) min(V_c, V_n) per face, theta =
-    !> 1 / (2 ndim + 1) (a closing cell surrounded by material takes the mean of itself and
-    !> its neighbours), conservative face by face and computed alike by every block that sees
-    !> the face (cq over the padded block less two layers).
-    subroutine relax_closing(count)
-      logical, intent(in) :: count   !< count the closing cells and their heat (cut%out)
-      real(wp), allocatable :: cn(:, :, :, :)
-      logical, allocatable :: cls(:, :, :)
-      real(wp) :: th, vc, vn
-      integer :: ii, jj, kk, d, s, nb(3), e2(3)
-      logical :: inside
-      allocate(cls(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
-      do kk = 1 - e(3), n(3) + e(3)
-        do jj = 1 - e(2), n(2) + e(2)
-          do ii = 1 - e(1), n(1) + e(1)
-            cls(ii, jj, kk) = closing([ii, jj, kk])
-          end do
-        end do
-      end do
-      if (.not. any(cls)) return   ! (most blocks, and every scene without a void body)
-      e2 = max(e - 1, 0)
-      th = 1.0_wp / real(2 * blk%lay%ndim + 1, wp)
-      cn = cq
-      do kk = 1 - e2(3), n(3) + e2(3)
-        do jj = 1 - e2(2), n(2) + e2(2)
-          do ii = 1 - e2(1), n(1) + e2(1)
-            if (.not. alpha(ii, jj, kk) > 0.0_wp) cycle
-            inside = all([ii, jj, kk] >= 1 .and. [ii, jj, kk] <= n)
-            if (count .and. cls(ii, jj, kk) .and. inside) cut%out(5, b) = cut%out(5, b) + 1.0_wp
-            do d = 1, blk%lay%ndim
-              do s = -1, 1, 2
-                nb = [ii, jj, kk]
-                nb(d) = nb(d) + s
-                if (.not. alpha(nb(1), nb(2), nb(3)) > 0.0_wp) cycle
-                if (.not. (cls(ii, jj, kk) .neqv. cls(nb(1), nb(2), nb(3)))) cycle
-                vc = cell_volume(blk%lay, blk%offset, ii)
-                vn = cell_volume(blk%lay, blk%offset, nb(1))
-                cn(ii, jj, kk, :) = cn(ii, jj, kk, :) + th * min(vc, vn) / vc &
-                  * (cq(nb(1), nb(2), nb(3), :) - cq(ii, jj, kk, :))
-              end do
-            end do
-          end do
-        end do
-      end do
-      if (count) then
-        ! the kinetic energy the exchange turned into heat (in the block's own cells)
-        do kk = 1, n(3)
-          do jj = 1, n(2)
-            do ii = 1, n(1)
-              cut%out(6, b) = cut%out(6, b) + (kinetic(cq(ii, jj, kk, :)) &
-                - kinetic(cn(ii, jj, kk, :))) * cell_volume(blk%lay, blk%offset, ii)
-            end do
-          end do
-        end do
-      end if
-      cq = cn
-    end subroutine relax_closing
-
-    !> the kinetic energy per volume of content u
-    real(wp) function kinetic(u)
-      real(wp), intent(in) :: u(:)
-      kinetic = 0.0_wp
-      if (u(i_rho) > 0.0_wp) kinetic = 0.5_wp * sum(u(i_mx:i_mz)**2) / u(i_rho)
-    end function kinetic
-
-    !> cell c0 closing: wet, its centre outside the phase, and either full by its fraction
-    !> or between two cells of the phase along some direction (a sliver of the void)
-    logical function closing(c0)
-      integer, intent(in) :: c0(3)
-      integer :: g(3), d, m(3), p(3)
-      g = c0 + blk%lay%ng
-      closing = .false.
-      if (.not. alpha(c0(1), c0(2), c0(3)) > 0.0_wp) return
-      if (bigphi(g(1), g(2), g(3)) < 0.0_wp .or. owner(g(1), g(2), g(3)) /= 0) return
-      closing = .not. alpha(c0(1), c0(2), c0(3)) < full
-      if (closing) return
-      do d = 1, blk%lay%ndim
-        m = g
-        p = g
-        m(d) = m(d) - 1
-        p(d) = p(d) + 1
-        if (bigphi(m(1), m(2), m(3)) < 0.0_wp .and. bigphi(p(1), p(2), p(3)) < 0.0_wp) &
-          closing = .true.
-      end do
-    end function closing
 
     real(wp) function alpha(i0, j0, k0)
       integer, intent(in) :: i0, j0, k0
@@ -648,61 +563,5 @@ contains
       end do
     end do
   end function cut_content
-
-  !> A void body's level set follows the content (manual/theory.md section 7c): in each cut
-  !> cell of block blk (number b) whose surface is a void body's, the fraction its content
-  !> fills at the density of its state, f = C_rho / rho (at most 1), and the level set's
-  !> fraction alpha differ by the drift; the void's level set there moves by
-  !> cut%follow (f - alpha) h (at most h / 4 a step), so that the void shrinks as the
-  !> material fills it. A material body's own level set is left as it is: its drift shows
-  !> in its cut cells only and is harmless there (section 7c); a void's decides when and
-  !> where the void closes.
-  subroutine cut_follow(cut, b, blk, ph, ls)
-    type(cut_t), intent(in) :: cut
-    integer, intent(in) :: b
-    type(block_t), intent(inout) :: blk
-    type(phases_t), intent(in) :: ph
-    type(ls_set_t), intent(in) :: ls
-    integer :: i, j, k, l, lv, v0
-    real(wp) :: a, f, h, rho, top
-    real(wp), parameter :: remnant = 0.01_wp   !< a closed remnant's centre value (cells)
-    if (.not. any(ls%kind == ls_void)) return
-    v0 = ph%lo(cut%p) - 1
-    h = minval(blk%lay%dx(1:blk%lay%ndim))
-    do k = 1, blk%n(3)
-      do j = 1, blk%n(2)
-        do i = 1, blk%n(1)
-          a = cut%faces(b)%alpha(i, j, k)
-          if (.not. a > 0.0_wp) cycle
-          ! the void whose surface this is: the largest -phi over the void bodies
-          lv = 0
-          top = -huge(1.0_wp)
-          do l = 1, ls%n
-            if (ls%kind(l) /= ls_void) cycle
-            if (-blk%q(i, j, k, ph%ils + l) > top) then
-              top = -blk%q(i, j, k, ph%ils + l)
-              lv = l
-            end if
-          end do
-          ! (a material body's surface, where one lies nearer than the void's)
-          if (any(ls%kind == ls_material .and. blk%q(i, j, k, ph%ils + 1:ph%ils + ls%n) &
-            < -top)) cycle
-          if (.not. a < full) then
-            ! every corner of the cell lies in the material, but the void's level set dips
-            ! below zero at its centre: a remnant of the void narrower than the cell. The
-            ! cell is the material's (its centre made so): as a void cell its state would be
-            ! a ghost state and its content, which the fluxes fill, would not push back
-            if (top > 0.0_wp) blk%q(i, j, k, ph%ils + lv) = remnant * h
-            cycle
-          end if
-          rho = blk%q(i, j, k, v0 + i_rho)
-          if (.not. (rho > 0.0_wp .and. cut%c(i, j, k, i_rho, b) > 0.0_wp)) cycle
-          f = min(cut%c(i, j, k, i_rho, b) / rho, 1.0_wp)
-          blk%q(i, j, k, ph%ils + lv) = blk%q(i, j, k, ph%ils + lv) &
-            + max(-0.25_wp, min(0.25_wp, cut%follow * (f - a))) * h
-        end do
-      end do
-    end do
-  end subroutine cut_follow
 
 end module m_gfm_cut

@@ -19,8 +19,8 @@ module m_gfm_stage
   use m_scene, only: rigid_bodies_move
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
-  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars, &
-    cut_follow
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars
+  use m_gfm_cut_close, only: cut_follow
   use m_gfm_cut_cells, only: cut_donate
   use m_state, only: n_euler, i_rho
   use m_boundary, only: ghosts_all, bc_outflow
@@ -315,7 +315,8 @@ contains
           cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
           cut%ext_n(b)%a = cut%ext(b)%a
           ! (before the rest state replaces the states of the cells whose centre is outside)
-          call cut_follow(cut, b, blk, ph, ls)
+          call cut_follow(blk, ph%ils, ph%lo(cut%p) - 1, ls, f%alpha, &
+            cut%c(:, :, :, i_rho, b), cut%follow)
           call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
         end if
       end associate

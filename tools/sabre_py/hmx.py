@@ -25,7 +25,8 @@ The Hayes EOS (Menikoff & Sewell, Combust. Theory Modelling 6 (2002); Gamma/V co
     E(V, T) = Phi(V) + cv (T - T0) - cv T0 Gamma0 (1 - V/V0),
     Phi(V) = K0 V0/(N (N - 1)) ((V0/V)^(N-1) - 1) + K0/N (V - V0),
 on which the Hugoniot from (V0, T0) is closed exactly (`hayes_hugoniot`).
-`python3 -B -m sabre_py.hmx` (from tools/) prints the table of manual/materials.md.
+`python3 -B -m sabre_py.hmx` (from tools/) prints the table of manual/materials.md and the
+void's collapse times of manual/hotspots.md (`rayleigh_collapse`).
 """
 import math
 from collections import namedtuple
@@ -110,6 +111,22 @@ def piston_state(hset, up):
                 c_L=ep.longitudinal_speed(mat))
 
 
+def rayleigh_collapse(hset, up, radius=5.0e-6, near=10.0e-6, rise_share=0.1):
+    """Collapse time of a cylindrical void of this radius whose near side lies `near` from a
+    velocity side at up (the scene of decks/void_collapse.nml), read as the dissertation
+    reads it (published-data section F): the void collapses in Rayleigh's time
+    t_R = 0.915 R sqrt(rho0 / p) once the shock has passed it, p the shocked pressure. So
+    t = rise / 2 + (near + 2 R) / Us + t_R, the rise being rise_share of the shock's transit
+    to the void (the deck's ramp; half of it delays the shock). Returns a dict with p, us,
+    rise, transit (near + 2 R over Us), t_r and t."""
+    r = piston_state(hset, up)
+    rise = rise_share * near / r["us"]
+    transit = (near + 2.0 * radius) / r["us"]
+    t_r = 0.915 * radius * math.sqrt(hset.rho0 / r["p"])
+    return dict(p=r["p"], us=r["us"], rise=rise, transit=transit, t_r=t_r,
+                t=0.5 * rise + transit + t_r)
+
+
 def main():
     c0, s = hayes_fit()
     print("Hayes EOS Hugoniot, linear fit over up %g-%g m/s: c0 %.1f m/s, s %.4f"
@@ -124,6 +141,13 @@ def main():
         print("%-7s %-11s %7.1f %7.1f %.4f     %.4f  %.2f  %.2f  %.2f"
               % (name, r["regime"], r["us"], r["front"], r["sigma"] / 1e9, r["p"] / 1e9,
                  r["rho"], r["T"], r["dT"]))
+    print("void collapse (R 5 um, near side 10 um from the velocity side), hmx_f:")
+    print("  up(m/s) p(GPa)  Us(m/s) rise(ns) transit(ns) t_R(ns) rise/2+transit+t_R(ns)")
+    for up in (500.0, 1000.0, 1500.0):
+        c = rayleigh_collapse(SETS["hmx_f"], up)
+        print("  %6.0f  %.3f  %7.1f  %.3f    %.3f       %.3f   %.3f"
+              % (up, c["p"] / 1e9, c["us"], c["rise"] * 1e9, c["transit"] * 1e9,
+                 c["t_r"] * 1e9, c["t"] * 1e9))
 
 
 if __name__ == "__main__":

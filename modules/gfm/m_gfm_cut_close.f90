@@ -1,0 +1,181 @@
+!> The closing cells of the cut-cell update (issue 15, manual/theory.md section 7d): where a
+!> void closes, a wet cell whose centre lies in the void shows a ghost state to the stencils,
+!> so the content its faces bring does not push back; until the void's level set closes it,
+!> it shares content with its wet face neighbours (relax_closing, called by m_gfm_cut's
+!> cut_open on the content of a block as it came from the stage). A void's level set
+!> follows the content at the step's end and closes such remnants (cut_follow, called by
+!> m_gfm_stage).
+module m_gfm_cut_close
+  use m_kinds, only: wp
+  use m_layout, only: layout_t, cell_volume
+  use m_blocks, only: block_t
+  use m_levelset_bodies, only: ls_set_t, ls_material, ls_void
+  use m_state, only: i_rho, i_mx, i_mz
+  use m_gfm_cut_cells, only: full
+  implicit none
+  private
+  public :: relax_closing, cut_follow
+
+contains
+
+  !> A cell every corner of which lies in the phase while its centre lies outside (a
+  !> remnant of a void narrower than the cell, closing; cut_follow closes it at the step's
+  !> end) shows a ghost state to the stencils, so the content its faces bring does not push
+  !> back, and piles up. Until it closes it shares content with each wet face neighbour
+  !> that is not closing too: theta (C_n - C_c) min(V_c, V_n) per face, theta =
+  !> 1 / (2 ndim + 1) (a closing cell surrounded by material takes the mean of itself and
+  !> its neighbours), conservative face by face and computed alike by every block that sees
+  !> the face (cq over the padded block less two layers). The block has n interior cells
+  !> along each direction and the fractions alpha_e reach e cells into the halo.
+  subroutine relax_closing(lay, offset, n, e, alpha_e, bigphi, owner, count, cq, tally)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), n(3), e(3)
+    real(wp), intent(in) :: alpha_e(:, :, :)
+    real(wp), intent(in) :: bigphi(:, :, :)   !< the phase's level set over the padded block
+    integer, intent(in) :: owner(:, :, :)     !< whose surface (ls_region; 0: a void's)
+    logical, intent(in) :: count   !< count the closing cells and their heat in tally
+    real(wp), intent(inout) :: cq(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)  !< content
+    real(wp), intent(inout) :: tally(2)   !< closing cells (cell-steps), their heat
+    real(wp), allocatable :: cn(:, :, :, :)
+    logical, allocatable :: cls(:, :, :)
+    real(wp) :: th, vc, vn
+    integer :: ii, jj, kk, d, s, nb(3), e2(3)
+    logical :: inside
+    allocate(cls(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
+    do kk = 1 - e(3), n(3) + e(3)
+      do jj = 1 - e(2), n(2) + e(2)
+        do ii = 1 - e(1), n(1) + e(1)
+          cls(ii, jj, kk) = closing([ii, jj, kk])
+        end do
+      end do
+    end do
+    if (.not. any(cls)) return   ! (most blocks, and every scene without a void body)
+    e2 = max(e - 1, 0)
+    th = 1.0_wp / real(2 * lay%ndim + 1, wp)
+    cn = cq
+    do kk = 1 - e2(3), n(3) + e2(3)
+      do jj = 1 - e2(2), n(2) + e2(2)
+        do ii = 1 - e2(1), n(1) + e2(1)
+          if (.not. alpha(ii, jj, kk) > 0.0_wp) cycle
+          inside = all([ii, jj, kk] >= 1 .and. [ii, jj, kk] <= n)
+          if (count .and. cls(ii, jj, kk) .and. inside) tally(1) = tally(1) + 1.0_wp
+          do d = 1, lay%ndim
+            do s = -1, 1, 2
+              nb = [ii, jj, kk]
+              nb(d) = nb(d) + s
+              if (.not. alpha(nb(1), nb(2), nb(3)) > 0.0_wp) cycle
+              if (.not. (cls(ii, jj, kk) .neqv. cls(nb(1), nb(2), nb(3)))) cycle
+              vc = cell_volume(lay, offset, ii)
+              vn = cell_volume(lay, offset, nb(1))
+              cn(ii, jj, kk, :) = cn(ii, jj, kk, :) + th * min(vc, vn) / vc &
+                * (cq(nb(1), nb(2), nb(3), :) - cq(ii, jj, kk, :))
+            end do
+          end do
+        end do
+      end do
+    end do
+    if (count) then
+      ! the kinetic energy the exchange turned into heat (in the block's own cells)
+      do kk = 1, n(3)
+        do jj = 1, n(2)
+          do ii = 1, n(1)
+            tally(2) = tally(2) + (kinetic(cq(ii, jj, kk, :)) &
+              - kinetic(cn(ii, jj, kk, :))) * cell_volume(lay, offset, ii)
+          end do
+        end do
+      end do
+    end if
+    cq = cn
+
+  contains
+
+    !> cell c0 closing: wet, its centre outside the phase, and either full by its fraction
+    !> or between two cells of the phase along some direction (a sliver of the void)
+    logical function closing(c0)
+      integer, intent(in) :: c0(3)
+      integer :: g(3), d, m(3), p(3)
+      g = c0 + lay%ng
+      closing = .false.
+      if (.not. alpha(c0(1), c0(2), c0(3)) > 0.0_wp) return
+      if (bigphi(g(1), g(2), g(3)) < 0.0_wp .or. owner(g(1), g(2), g(3)) /= 0) return
+      closing = .not. alpha(c0(1), c0(2), c0(3)) < full
+      if (closing) return
+      do d = 1, lay%ndim
+        m = g
+        p = g
+        m(d) = m(d) - 1
+        p(d) = p(d) + 1
+        if (bigphi(m(1), m(2), m(3)) < 0.0_wp .and. bigphi(p(1), p(2), p(3)) < 0.0_wp) &
+          closing = .true.
+      end do
+    end function closing
+
+    real(wp) function alpha(i0, j0, k0)
+      integer, intent(in) :: i0, j0, k0
+      alpha = alpha_e(i0 + e(1), j0 + e(2), k0 + e(3))
+    end function alpha
+  end subroutine relax_closing
+
+  !> the kinetic energy per volume of content u
+  pure real(wp) function kinetic(u)
+    real(wp), intent(in) :: u(:)
+    kinetic = 0.0_wp
+    if (u(i_rho) > 0.0_wp) kinetic = 0.5_wp * sum(u(i_mx:i_mz)**2) / u(i_rho)
+  end function kinetic
+
+  !> A void body's level set follows the content (manual/theory.md section 7c): in each cut
+  !> cell of block blk whose surface is a void body's, the fraction its content fills at
+  !> the density of its state, f = C_rho / rho (at most 1; content_rho: the cut phase's mass
+  !> content, whose variables start after v0 in q), and the level set's fraction alpha differ
+  !> by the drift; the void's level set there moves by gain (f - alpha) h (at most h / 4 a
+  !> step), so that the void shrinks as the
+  !> material fills it. A material body's own level set is left as it is: its drift shows
+  !> in its cut cells only and is harmless there (section 7c); a void's decides when and
+  !> where the void closes.
+  subroutine cut_follow(blk, ils, v0, ls, alpha, content_rho, gain)
+    type(block_t), intent(inout) :: blk
+    integer, intent(in) :: ils, v0   !< q's index before the level sets, the phase's
+    type(ls_set_t), intent(in) :: ls
+    real(wp), intent(in) :: alpha(:, :, :), content_rho(:, :, :), gain
+    integer :: i, j, k, l, lv
+    real(wp) :: a, f, h, rho, top
+    real(wp), parameter :: remnant = 0.01_wp   !< a closed remnant's centre value (cells)
+    if (.not. any(ls%kind == ls_void)) return
+    h = minval(blk%lay%dx(1:blk%lay%ndim))
+    do k = 1, blk%n(3)
+      do j = 1, blk%n(2)
+        do i = 1, blk%n(1)
+          a = alpha(i, j, k)
+          if (.not. a > 0.0_wp) cycle
+          ! the void whose surface this is: the largest -phi over the void bodies
+          lv = 0
+          top = -huge(1.0_wp)
+          do l = 1, ls%n
+            if (ls%kind(l) /= ls_void) cycle
+            if (-blk%q(i, j, k, ils + l) > top) then
+              top = -blk%q(i, j, k, ils + l)
+              lv = l
+            end if
+          end do
+          ! (a material body's surface, where one lies nearer than the void's)
+          if (any(ls%kind == ls_material .and. blk%q(i, j, k, ils + 1:ils + ls%n) &
+            < -top)) cycle
+          if (.not. a < full) then
+            ! every corner of the cell lies in the material, but the void's level set dips
+            ! below zero at its centre: a remnant of the void narrower than the cell. The
+            ! cell is the material's (its centre made so): as a void cell its state would be
+            ! a ghost state and its content, which the fluxes fill, would not push back
+            if (top > 0.0_wp) blk%q(i, j, k, ils + lv) = remnant * h
+            cycle
+          end if
+          rho = blk%q(i, j, k, v0 + i_rho)
+          if (.not. (rho > 0.0_wp .and. content_rho(i, j, k) > 0.0_wp)) cycle
+          f = min(content_rho(i, j, k) / rho, 1.0_wp)
+          blk%q(i, j, k, ils + lv) = blk%q(i, j, k, ils + lv) &
+            + max(-0.25_wp, min(0.25_wp, gain * (f - a))) * h
+        end do
+      end do
+    end do
+  end subroutine cut_follow
+
+end module m_gfm_cut_close
