@@ -137,11 +137,18 @@ contains
     integer, intent(in) :: ils, v0   !< q's index before the level sets, the phase's
     type(ls_set_t), intent(in) :: ls
     real(wp), intent(in) :: alpha(:, :, :), content_rho(:, :, :), gain
-    integer :: i, j, k, l, lv
-    real(wp) :: a, f, h, rho, top
+    real(wp), allocatable :: d(:, :, :, :)
+    integer :: i, j, k, l, lv, o1, o2, o3, m(3), nl, r(3)
+    real(wp) :: a, f, h, rho, top, w
     real(wp), parameter :: remnant = 0.01_wp   !< a closed remnant's centre value (cells)
+    real(wp), parameter :: kernel(-1:1) = [0.25_wp, 0.5_wp, 0.25_wp]
     if (.not. any(ls%kind == ls_void)) return
     h = minval(blk%lay%dx(1:blk%lay%ndim))
+    nl = ls%n
+    r = merge(1, 0, [1, 2, 3] <= blk%lay%ndim)   ! the kernel's reach along each direction
+    ! each cut cell's move of its void's level set, d (in cells), one array per level set
+    allocate(d(0:blk%n(1)+1, 0:blk%n(2)+1, 0:blk%n(3)+1, nl))
+    d = 0.0_wp
     do k = 1, blk%n(3)
       do j = 1, blk%n(2)
         do i = 1, blk%n(1)
@@ -150,7 +157,7 @@ contains
           ! the void whose surface this is: the largest -phi over the void bodies
           lv = 0
           top = -huge(1.0_wp)
-          do l = 1, ls%n
+          do l = 1, nl
             if (ls%kind(l) /= ls_void) cycle
             if (-blk%q(i, j, k, ils + l) > top) then
               top = -blk%q(i, j, k, ils + l)
@@ -158,7 +165,7 @@ contains
             end if
           end do
           ! (a material body's surface, where one lies nearer than the void's)
-          if (any(ls%kind == ls_material .and. blk%q(i, j, k, ils + 1:ils + ls%n) &
+          if (any(ls%kind == ls_material .and. blk%q(i, j, k, ils + 1:ils + nl) &
             < -top)) cycle
           if (.not. a < full) then
             ! every corner of the cell lies in the material, but the void's level set dips
@@ -171,8 +178,33 @@ contains
           rho = blk%q(i, j, k, v0 + i_rho)
           if (.not. (rho > 0.0_wp .and. content_rho(i, j, k) > 0.0_wp)) cycle
           f = min(content_rho(i, j, k) / rho, 1.0_wp)
-          blk%q(i, j, k, ils + lv) = blk%q(i, j, k, ils + lv) &
-            + max(-0.25_wp, min(0.25_wp, gain * (f - a))) * h
+          d(i, j, k, lv) = max(-0.25_wp, min(0.25_wp, gain * (f - a)))
+        end do
+      end do
+    end do
+    ! the moves spread over each cell's neighbours by the weights (1/4, 1/2, 1/4) along each
+    ! direction, the transpose of the averaging that takes phi to the corners (m_levelset_cut):
+    ! a move that alternates from cell to cell changes no corner, so no fraction could ever
+    ! take it back; pointwise moves fed it and a void's surface roughened at rest
+    do l = 1, nl
+      if (.not. any(abs(d(:, :, :, l)) > 0.0_wp)) cycle
+      do k = 1, blk%n(3)
+        do j = 1, blk%n(2)
+          do i = 1, blk%n(1)
+            a = 0.0_wp
+            do o3 = -r(3), r(3)
+              do o2 = -r(2), r(2)
+                do o1 = -1, 1
+                  m = [i + o1, j + o2, k + o3]
+                  w = kernel(o1)
+                  if (r(2) > 0) w = w * kernel(o2)
+                  if (r(3) > 0) w = w * kernel(o3)
+                  a = a + w * d(m(1), m(2), m(3), l)
+                end do
+              end do
+            end do
+            if (abs(a) > 0.0_wp) blk%q(i, j, k, ils + l) = blk%q(i, j, k, ils + l) + a * h
+          end do
         end do
       end do
     end do
