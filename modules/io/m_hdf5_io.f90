@@ -8,9 +8,9 @@
 !> transfers, so blocks may come back to a different owner than the one that wrote them
 !> (restart on another rank count). A field dataset is stored in chunks of the nominal block
 !> (lay%bsize), so that a block's interior is one piece of the file rather than a run per
-!> row (block_chunk says when it stays contiguous); readers see the same array either way.
-!> Every public routine is collective: every rank calls
-!> it, even one holding no block, because HDF5 creates files, groups, datasets and
+!> row (block_chunk says when it stays contiguous); readers see the same array either way,
+!> and a file of either layout restarts. Every public routine is collective: every rank
+!> calls it, even one holding no block, because HDF5 creates files, groups, datasets and
 !> attributes collectively. Attributes and text datasets store rank 0's value. Inactive
 !> blocks are never written and read back as 0 (the datasets' fill value).
 !> An HDF5 failure stops the run through fatal with the file and object named. This module
@@ -89,8 +89,8 @@ contains
       call h5pset_chunk_f(dcpl, 3, chunk, err)
       if (err < 0) call fatal(here, 'cannot set chunks of ' // dims_text(int(chunk)) // &
         ' cells for ' // dset_path // ' in ' // f%path)
-      ! independent MPI-IO writes need every chunk allocated when the dataset is created
-      ! (HDF5 1.10 forces it with the MPI-IO driver; said here so that no version differs)
+      ! independent MPI-IO writes need every chunk allocated when the dataset is created;
+      ! HDF5 1.10 forces it with the MPI-IO driver, asked for here so as not to rely on it
       call h5pset_alloc_time_f(dcpl, H5D_ALLOC_TIME_EARLY_F, err)
     end if
     ! the fill value is written at creation only where an inactive block leaves a hole:
@@ -278,7 +278,7 @@ contains
   !> (it may hold up to n_halo - 1 cells more than bsize). 0 keeps the dataset contiguous:
   !> - when the blocks are slabs (one block across every direction but the slowest, as in
   !>   every 1D run): a contiguous dataset already holds each block in one piece;
-  !> - when a chunk would pass HDF5's limit of 4 GiB (a block of 2^29 cells);
+  !> - when a chunk would pass HDF5's limit of 4 GiB (a block of 2^29 cells, 812^3);
   !> - when chunks would make the file more than max_growth larger than its data: HDF5
   !>   stores a partial chunk at the edge of the grid whole, and indexes every chunk (about
   !>   64 bytes a chunk, measured). So 98^3 cells in 32^3 blocks (2.2 times the data) or
