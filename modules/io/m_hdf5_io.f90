@@ -6,15 +6,19 @@
 !> directions. Files are opened with the MPI-IO driver on the world communicator; each rank
 !> writes and reads the interior cells of its own blocks as hyperslabs with independent
 !> transfers, so blocks may come back to a different owner than the one that wrote them
-!> (restart on another rank count). Every public routine is collective: every rank calls
-!> it, even one holding no block, because HDF5 creates files, groups, datasets and
+!> (restart on another rank count). A field dataset is stored in chunks of the nominal block
+!> (lay%bsize), so that a block's interior is one piece of the file rather than a run per
+!> row (block_chunk says when it stays contiguous); readers see the same array either way,
+!> and a file of either layout restarts. Every public routine is collective: every rank
+!> calls it, even one holding no block, because HDF5 creates files, groups, datasets and
 !> attributes collectively. Attributes and text datasets store rank 0's value. Inactive
 !> blocks are never written and read back as 0 (the datasets' fill value).
 !> An HDF5 failure stops the run through fatal with the file and object named. This module
 !> knows nothing of physics or of which fields exist; the XDMF companion file is m_xdmf's.
 module m_hdf5_io
   use hdf5, only: hid_t, hsize_t, h5pcreate_f, h5pclose_f, h5pset_fill_value_f, &
-    H5P_DATASET_CREATE_F, h5screate_f, h5screate_simple_f, h5sclose_f, &
+    h5pset_chunk_f, h5pset_alloc_time_f, h5pset_fill_time_f, H5D_ALLOC_TIME_EARLY_F, &
+    H5D_FILL_TIME_NEVER_F, H5P_DATASET_CREATE_F, h5screate_f, h5screate_simple_f, h5sclose_f, &
     h5sselect_hyperslab_f, h5sget_simple_extent_ndims_f, h5sget_simple_extent_dims_f, &
     H5S_SCALAR_F, H5S_SELECT_SET_F, h5dcreate_f, h5dclose_f, h5dwrite_f, h5dread_f, &
     h5dget_space_f, h5dget_type_f, h5tclose_f, H5T_NATIVE_DOUBLE, H5T_IEEE_F64LE
@@ -72,7 +76,7 @@ contains
     integer, intent(in) :: ids(:)
     real(wp), intent(in), contiguous :: data(:, :, :, :)
     integer(hid_t) :: dset, filespace, dcpl, lcpl
-    integer(hsize_t) :: gdims(3)
+    integer(hsize_t) :: gdims(3), chunk(3)
     integer :: err
     call require_open(f, 'h5_write_field')
     call check_blocks(f, dset_path, lay, ids, shape(data))
@@ -80,6 +84,18 @@ contains
     call h5screate_simple_f(3, gdims, filespace, err)
     call h5pcreate_f(H5P_DATASET_CREATE_F, dcpl, err)
     call h5pset_fill_value_f(dcpl, H5T_NATIVE_DOUBLE, 0.0_wp, err)
+    chunk = block_chunk(lay)
+    if (all(chunk > 0)) then
+      call h5pset_chunk_f(dcpl, 3, chunk, err)
+      if (err < 0) call fatal(here, 'cannot set chunks of ' // dims_text(int(chunk)) // &
+        ' cells for ' // dset_path // ' in ' // f%path)
+      ! independent MPI-IO writes need every chunk allocated when the dataset is created;
+      ! HDF5 1.10 forces it with the MPI-IO driver, asked for here so as not to rely on it
+      call h5pset_alloc_time_f(dcpl, H5D_ALLOC_TIME_EARLY_F, err)
+    end if
+    ! the fill value is written at creation only where an inactive block leaves a hole:
+    ! otherwise every cell would be written twice
+    if (all(lay%active)) call h5pset_fill_time_f(dcpl, H5D_FILL_TIME_NEVER_F, err)
     lcpl = link_create_list()
     call h5dcreate_f(f%id, dset_path, H5T_IEEE_F64LE, filespace, dset, err, &
       dcpl_id=dcpl, lcpl_id=lcpl)
@@ -255,6 +271,33 @@ contains
     if (err < 0) call fatal(here, 'cannot select block ' // int_text(id) // &
       ' in the file dataspace: the layout does not match the dataset')
   end subroutine select_block
+
+  !> The chunk of a field dataset (Fortran order, as the dataspace): the nominal block
+  !> lay%bsize, so that every block that is not the last along a direction is exactly one
+  !> chunk, one piece of the file, and the last block is whole chunks and part of one more
+  !> (it may hold up to n_halo - 1 cells more than bsize). 0 keeps the dataset contiguous:
+  !> - when the blocks are slabs (one block across every direction but the slowest, as in
+  !>   every 1D run): a contiguous dataset already holds each block in one piece;
+  !> - when a chunk would pass HDF5's limit of 4 GiB (a block of 2^29 cells, 812^3);
+  !> - when chunks would make the file more than max_growth larger than its data: HDF5
+  !>   stores a partial chunk at the edge of the grid whole, and indexes every chunk (about
+  !>   60 bytes a chunk, measured; index_bytes rounds it up). So 98^3 cells in 32^3 blocks (2.2 times the data) or
+  !>   blocks of 4^3 cells (512-byte chunks, 12 % index) stay contiguous, while 256^3 in
+  !>   32^3 (0.03 %) or 1000^3 in 32^3 (7 % of edge chunks) are chunked.
+  pure function block_chunk(lay) result(chunk)
+    type(layout_t), intent(in) :: lay
+    integer(hsize_t) :: chunk(3)
+    integer(hsize_t), parameter :: max_chunk_bytes = 4294967295_hsize_t
+    real(wp), parameter :: index_bytes = 64.0_wp, max_growth = 0.10_wp
+    real(wp) :: nchunks(3), stored
+    chunk = 0
+    if (all(lay%nb(1:lay%ndim - 1) == 1)) return
+    if (8_hsize_t * product(int(lay%bsize, hsize_t)) > max_chunk_bytes) return
+    nchunks = real((lay%cells + lay%bsize - 1) / lay%bsize, wp)
+    stored = 8.0_wp * product(nchunks * lay%bsize) + index_bytes * product(nchunks)
+    if (stored > (1.0_wp + max_growth) * 8.0_wp * product(real(lay%cells, wp))) return
+    chunk = int(lay%bsize, hsize_t)
+  end function block_chunk
 
   !> Block ids in range and data of shape (nmax, size(ids)).
   subroutine check_blocks(f, dset_path, lay, ids, data_shape)

@@ -5,7 +5,9 @@
 !> value bit for bit, that inactive blocks read back as 0, that attributes and the text
 !> dataset round-trip with rank 0's value, and the root grid attributes. In the 3D case the
 !> last rank holds no block when writing, so the collective calls are exercised with nloc = 0.
-!> The .xmf companion's mesh is checked too (1D and 2D flat along their unused directions).
+!> The .xmf companion's mesh is checked too (1D and 2D flat along their unused directions),
+!> and the storage of a field dataset: chunks of the block, or contiguous (m_hdf5_io's
+!> block_chunk), read back with the HDF5 library itself.
 !> Prints PASS test_hdf5 or FAIL ... and exits non-zero on failure. With --keep the files
 !> (test_hdf5_{1d,2d,3d}.h5 and .xmf in the working folder) are kept for inspection.
 program test_hdf5
@@ -17,6 +19,9 @@ program test_hdf5
     h5_write_attr, h5_read_attr, h5_write_field, h5_read_field, h5_write_text, &
     h5_read_text, h5_exists, h5_has_attr
   use m_xdmf, only: xdmf_write
+  use hdf5, only: hid_t, hsize_t, h5fopen_f, h5fclose_f, h5dopen_f, h5dclose_f, &
+    h5dget_create_plist_f, h5pget_layout_f, h5pget_chunk_f, h5pclose_f, H5F_ACC_RDONLY_F, &
+    H5D_CHUNKED_F
   implicit none
 
   integer, parameter :: n_fields = 3
@@ -35,15 +40,23 @@ program test_hdf5
   end do
 
   call check_start('test_hdf5')
+  ! the expected chunks: 0 for a contiguous dataset (1D; blocks of 128 and 512 bytes, whose
+  ! chunk index would pass 10 % of the data)
   call run_case('1d', 1, [64, 1, 1], [8, 1, 1], [-1.0_wp, 0.0_wp, 0.0_wp], &
-    [2.0_wp, 1.0_wp, 1.0_wp], [3], .false.)
+    [2.0_wp, 1.0_wp, 1.0_wp], [3], .false., [0, 0, 0])
   call run_case('2d', 2, [24, 16, 1], [4, 4, 1], [-1.0_wp, 0.25_wp, 0.0_wp], &
-    [2.0_wp, 1.5_wp, 1.0_wp], [8, 15], .false.)
+    [2.0_wp, 1.5_wp, 1.0_wp], [8, 15], .false., [0, 0, 0])
   call run_case('3d', 3, [12, 8, 16], [4, 4, 4], [-1.0_wp, 0.25_wp, 3.0_wp], &
-    [2.0_wp, 1.5_wp, 4.0_wp], [5, 18], .true.)
+    [2.0_wp, 1.5_wp, 4.0_wp], [5, 18], .true., [0, 0, 0])
   ! cells not a multiple of block: last blocks of 6 (x) and 10 (y: 2 cells joined) cells
   call run_case('2d_uneven', 2, [30, 18, 1], [8, 8, 1], [-1.0_wp, 0.25_wp, 0.0_wp], &
-    [2.0_wp, 1.5_wp, 1.0_wp], [6], .false.)
+    [2.0_wp, 1.5_wp, 1.0_wp], [6], .false., [0, 0, 0])
+  ! chunked by block, with inactive blocks (the fill value written) and without, where the
+  ! last block along x (10 cells: 2 joined) is one chunk and 2 cells of a partial one
+  call run_case('3d_chunked', 3, [32, 16, 16], [8, 8, 8], [-1.0_wp, 0.25_wp, 3.0_wp], &
+    [2.0_wp, 1.5_wp, 4.0_wp], [6, 11], .true., [8, 8, 8])
+  call run_case('3d_chunked_uneven', 3, [98, 16, 8], [8, 8, 8], [-1.0_wp, 0.25_wp, 3.0_wp], &
+    [2.0_wp, 1.5_wp, 4.0_wp], [integer ::], .false., [8, 8, 8])
 
   call h5_finalize()
   call check_done()
@@ -73,9 +86,9 @@ contains
     end do
   end subroutine my_blocks
 
-  subroutine run_case(tag, ndim, cells, bsize, lo, hi, inactive, leave_last_rank_empty)
+  subroutine run_case(tag, ndim, cells, bsize, lo, hi, inactive, leave_last_rank_empty, chunk)
     character(len=*), intent(in) :: tag
-    integer, intent(in) :: ndim, cells(3), bsize(3), inactive(:)
+    integer, intent(in) :: ndim, cells(3), bsize(3), inactive(:), chunk(3)
     real(wp), intent(in) :: lo(3), hi(3)
     logical, intent(in) :: leave_last_rank_empty
     type(layout_t) :: lay
@@ -135,6 +148,7 @@ contains
     call h5_close(f)
     call xdmf_write('test_hdf5_' // tag // '.xmf', path, lay, ['rho', 'p  '], time)
     if (comm_is_root()) call check_xdmf(tag)
+    if (comm_is_root()) call check_chunks(tag, path, chunk)
 
     ! Read back into the blocks of another owner assignment: active blocks in contiguous
     ! chunks, in reverse rank order; rank 0 also asks for the inactive blocks.
@@ -275,10 +289,12 @@ contains
       nodes = '1 19 31'
       origin = '0.0E+000 2.5E-001 -1.0E+000'
       spacing = '1.0E-001 6.944444444444445E-002 1.0E-001'
-    case default
+    case ('3d')
       nodes = '17 9 13'
       origin = '3.0E+000 2.5E-001 -1.0E+000'
       spacing = '6.25E-002 1.5625E-001 2.5E-001'
+    case default
+      return
     end select
     open(newunit=u, file='test_hdf5_' // tag // '.xmf', status='old', action='read', &
       iostat=ios)
@@ -301,6 +317,29 @@ contains
     call check(tag // ': .xmf mesh is nodes "' // nodes // '", origin "' // origin // &
       '", spacing "' // spacing // '"', found == 3)
   end subroutine check_xdmf
+
+  !> The storage of /fields/rho in path: chunks of chunk cells (Fortran order), or contiguous
+  !> for chunk 0, read with the serial HDF5 library on rank 0 after the file is closed.
+  subroutine check_chunks(tag, path, chunk)
+    character(len=*), intent(in) :: tag, path
+    integer, intent(in) :: chunk(3)
+    integer(hid_t) :: fid, dset, dcpl
+    integer(hsize_t) :: dims(3)
+    integer :: layout, err, nd
+    call h5fopen_f(path, H5F_ACC_RDONLY_F, fid, err)
+    call h5dopen_f(fid, '/fields/rho', dset, err)
+    call h5dget_create_plist_f(dset, dcpl, err)
+    call h5pget_layout_f(dcpl, layout, err)
+    dims = 0
+    if (layout == H5D_CHUNKED_F) call h5pget_chunk_f(dcpl, 3, dims, nd)
+    call h5pclose_f(dcpl, err)
+    call h5dclose_f(dset, err)
+    call h5fclose_f(fid, err)
+    call check(tag // ': /fields/rho stored in chunks of ' // int_text(int(dims(1))) // &
+      'x' // int_text(int(dims(2))) // 'x' // int_text(int(dims(3))) // ', want ' // &
+      int_text(chunk(1)) // 'x' // int_text(chunk(2)) // 'x' // int_text(chunk(3)), &
+      all(dims == int(chunk, hsize_t)))
+  end subroutine check_chunks
 
   subroutine delete_file(path)
     character(len=*), intent(in) :: path
