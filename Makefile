@@ -39,13 +39,13 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_text core/m_signals
   core/m_state strength/m_yield strength/m_plasticity \
   core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_balance \
   parallel/m_halo \
-  eos/m_eos numerics/m_phases grid/m_boundary numerics/m_reconstruct \
+  eos/m_eos numerics/m_reaction numerics/m_phases numerics/m_conduction grid/m_boundary numerics/m_reconstruct \
   levelset/m_levelset_derivatives levelset/m_levelset_advect levelset/m_levelset_reinit \
   levelset/m_levelset_geometry levelset/m_levelset_bodies levelset/m_levelset_motion \
   levelset/m_levelset_cut scene/m_scene numerics/m_flux numerics/m_elastoplastic \
   numerics/m_runge_kutta numerics/m_euler numerics/m_fallback gfm/m_gfm_probe gfm/m_gfm_stress gfm/m_gfm_mvi \
   gfm/m_gfm_mri gfm/m_gfm_mmi gfm/m_gfm gfm/m_gfm_conserve \
-  gfm/m_gfm_cut_cells gfm/m_gfm_cut_close gfm/m_gfm_cut gfm/m_gfm_stage strength/m_material_library numerics/m_numerics_defaults \
+  gfm/m_gfm_cut_cells gfm/m_gfm_cut_close gfm/m_gfm_cut gfm/m_gfm_stage gfm/m_phase_heat strength/m_material_library numerics/m_numerics_defaults \
   io/m_deck_text io/m_deck_parse io/m_deck_schema io/m_deck_check io/m_deck io/m_history \
   io/m_hdf5_file io/m_hdf5_attr io/m_hdf5_io io/m_xdmf io/m_json
 DRIVER := m_hotspot m_simulation m_output m_checkpoint m_run_report m_run_log m_step m_rebalance m_timeloop
@@ -64,7 +64,7 @@ SRC := $(subst modules/parallel/m_comm.f90,modules/parallel/m_comm_mpi.f90 \
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset \
-  test_gfm test_euler test_boundary test_partition test_levelset_cut test_hotspot
+  test_gfm test_euler test_boundary test_partition test_levelset_cut test_hotspot test_reaction
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
 .PHONY: all deps check check-caf check-batch run verify bench clean unit accuracy accuracy-taylor stability

@@ -152,6 +152,9 @@ contains
                 aux = solid_field(name, qp, rho)
               case ('phase')
                 aux = real(p, wp)
+              case ('lambda')
+                aux = 0.0_wp
+                if (sim%ph%has_reaction) aux = qp(:, sim%ph%i_lambda) / rho
               case default
                 aux = 0.0_wp
               end select
@@ -204,6 +207,8 @@ contains
       'cut_volume', 'cut_in_mass', 'cut_in_energy', 'cut_stranded_mass', &
       'cut_stranded_energy', 'cut_content_volume', 'cut_closing_cells', 'cut_closing_heat', &
       'cut_held_cells']
+    ! the mass burnt, sum rho lambda V over the real cells (reaction, m_reaction)
+    if (sim%ph%has_reaction) cols = [character(len=name_len) :: cols, 'burnt_mass']
     do l = 1, sim%ls%n
       if (sim%ls%kind(l) /= ls_material) cycle
       cols = [character(len=name_len) :: cols, &
@@ -219,8 +224,9 @@ contains
   function history_values(sim) result(v)
     type(sim_t), intent(inout) :: sim
     real(wp), allocatable :: v(:)
-    real(wp) :: tot(8), pmax, tmax, epmax, cut_tot(8), sums(11)
-    integer :: b, l, nb, ph
+    real(wp) :: tot(9), pmax, tmax, epmax, cut_tot(8)
+    real(wp), allocatable :: sums(:)
+    integer :: b, l, nb, ph, nsum
     real(wp), allocatable :: body(:, :), part(:, :)
     logical :: has_t(sim%ph%nphase)
     do ph = 1, sim%ph%nphase
@@ -230,7 +236,8 @@ contains
     tmax = -huge(1.0_wp)
     epmax = 0.0_wp
     ! block by block, then over the block ids: the same sums however the blocks are owned
-    allocate(part(11, size(sim%blocks)))
+    nsum = merge(12, 11, sim%ph%has_reaction)
+    allocate(part(nsum, size(sim%blocks)))
     part = 0.0_wp
     call hot_row_start(sim%hot)
     do b = 1, size(sim%blocks)
@@ -239,6 +246,7 @@ contains
       part(1:7, b) = tot(1:7)
       if (sim%cut%on) part(8:11, b) = cut_content(sim%cut, b, sim%blocks(b), &
         sim%ph%lo(sim%cut%p))
+      if (sim%ph%has_reaction) part(12, b) = tot(9)
     end do
     sums = comm_sum_by_key(part, [(sim%blocks(b)%id, b = 1, size(sim%blocks))], &
       sim%lay%nblocks)
@@ -256,6 +264,7 @@ contains
       cut_tot(8) = sums(11)
       v = [v, cut_tot, sim%cut%closing, sim%cut%held]
     end if
+    if (sim%ph%has_reaction) v = [v, sums(12)]
     nb = 0
     if (sim%ls%n > 0) nb = count(sim%ls%kind == ls_material)
     allocate(body(8, nb))
@@ -275,7 +284,7 @@ contains
     type(sim_t), intent(in) :: sim
     integer, intent(in) :: b
     logical, intent(in) :: has_t(:)   !< phases with a temperature (max_T)
-    real(wp), intent(inout) :: tot(8), pmax, tmax, epmax
+    real(wp), intent(inout) :: tot(9), pmax, tmax, epmax
     type(hot_t), intent(inout) :: hot   !< its cells' temperatures go to the hot spots
     real(wp), dimension(sim%blocks(b)%n(1)) :: rho, u, vv, w, p, e, temp, dv, msk
     integer :: sel(sim%blocks(b)%n(1))
@@ -308,6 +317,7 @@ contains
               tot(5) = tot(5) + sum(msk * dv * 0.5_wp * rho * (u**2 + vv**2 + w**2))
               tot(6) = tot(6) + sum(msk * dv * rho * e)
               tot(7) = tot(7) + sum(msk * dv * qp(:, i_en))
+              if (sim%ph%has_reaction) tot(9) = tot(9) + sum(msk * dv * qp(:, sim%ph%i_lambda))
               pmax = max(pmax, maxval(p, msk > 0.0_wp))
               if (has_t(ph)) tmax = max(tmax, maxval(temp, msk > 0.0_wp))
               if (has_t(ph) .and. hot%on) then

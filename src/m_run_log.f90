@@ -58,7 +58,8 @@ contains
     end do
     call log_line('effects: strength ' // trim(s%ph%strength_reason))
     call log_line('effects: thermal ' // thermal_reason(s))
-    call log_line('effects: heat conduction off, reaction off (not in this version)')
+    call log_line('effects: heat conduction ' // trim(s%ph%conduction_reason))
+    call log_line('effects: reaction ' // trim(s%ph%reaction_reason))
     call log_line('effects: interfaces ' // trim(interfaces_reason(s)))
     if (s%ls%n > 0) call log_line('gfm: cut-cell update ' // trim(s%cut%reason))
     if (s%ls%n > 0 .and. s%ph%has_strength) call log_line('gfm: conservation fix ' // &
@@ -70,6 +71,7 @@ contains
       write(line, '(a,i0,a)') 'state: ', s%ph%nvar, ' variables per cell (rho, rho u, rho v, ' // &
         'rho w, rho E'
     end if
+    if (s%ph%has_reaction) line = trim(line) // ', rho lambda'
     if (s%ph%nphase > 1) write(line, '(a,a,i0,a)') trim(line), ' per phase x ', s%ph%nphase, &
       ' phases'
     if (s%ls%n > 0) write(line, '(a,a,i0,a)') trim(line), '; ', s%ls%n, ' level sets'

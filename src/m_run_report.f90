@@ -271,6 +271,8 @@ contains
     call json_object(js, 'effects')
     call effect(js, 'strength', s%ph%has_strength, s%ph%strength_reason)
     call effect(js, 'thermal', s%ph%has_strength .and. s%cfg%thermal, thermal_reason(s))
+    call effect(js, 'heat_conduction', s%ph%has_conduction, s%ph%conduction_reason)
+    call effect(js, 'reaction', s%ph%has_reaction, s%ph%reaction_reason)
     call effect(js, 'interfaces', s%ls%n > 0, interfaces_reason(s))
     if (s%ls%n > 0) then
       call effect(js, 'conservation_fix', s%fix%on, s%fix%reason)

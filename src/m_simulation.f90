@@ -16,7 +16,7 @@ module m_simulation
   use m_partition, only: partition_blocks
   use m_balance, only: balance_t, balance_start
   use m_boundary, only: bc_kind_t, bc_from_name
-  use m_eos, only: eos_t, eos_from_material, eos_energy, eos_prepare
+  use m_eos, only: eos_t, eos_from_material, eos_energy, eos_prepare, eos_temperature
   use m_euler, only: euler_work_t, euler_work_init, numerics_t, euler_max_rate
   use m_phases, only: phases_t
   use m_fallback, only: counters_t
@@ -34,6 +34,8 @@ module m_simulation
   use m_errors, only: stop_collective
   use m_text, only: base_name, int_text
   use m_hotspot, only: hot_t, hot_setup
+  use m_reaction, only: reaction_from_name, reaction_none
+  use m_conduction, only: conduction_rate
   implicit none
   private
   public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, sim_rate, mem_parts, &
@@ -118,7 +120,8 @@ contains
     call level_set_bodies(cfg, sim)
     sim%ph%nphase = sim%ls%nphase
     allocate(sim%ph%eos(sim%ph%nphase), sim%ph%st(sim%ph%nphase), sim%ph%shear(sim%ph%nphase), &
-      sim%ph%strong(sim%ph%nphase), sim%ph%rest(2, sim%ph%nphase))
+      sim%ph%strong(sim%ph%nphase), sim%ph%rest(2, sim%ph%nphase), &
+      sim%ph%conductivity(sim%ph%nphase), sim%ph%rt(sim%ph%nphase))
     sim%ph%strength_reason = ''
     do p = 1, sim%ph%nphase
       mat = cfg%materials(material_index(cfg, sim%ph%material(p)))
@@ -129,6 +132,10 @@ contains
       sim%ph%eos(p) = eos_from_material(mat)
       call eos_prepare(sim%ph%eos(p))
       sim%ph%rest(:, p) = [mat%rho0, mat%p0]
+      sim%ph%conductivity(p) = 0.0_wp
+      if (cfg%heat_conduction .and. is_set(mat%conductivity)) &
+        sim%ph%conductivity(p) = mat%conductivity
+      if (cfg%reaction) sim%ph%rt(p) = reaction_from_name(mat%reaction, mat%reaction_q)
       if (any(sim%ph%material(1:p-1) == sim%ph%material(p))) cycle
       if (len_trim(sim%ph%strength_reason) > 0) &
         sim%ph%strength_reason = trim(sim%ph%strength_reason) // '; '
@@ -137,6 +144,7 @@ contains
     sim%ph%strength_reason = adjustl(sim%ph%strength_reason)
     sim%ph%has_strength = any(sim%ph%strong)
     if (sim%ph%has_strength) sim%ph%nflow = n_solid
+    call heat_effects()
     sim%ph%ils = sim%ph%nphase * sim%ph%nflow
     sim%ph%nvar = sim%ph%ils + sim%ls%n
     call sim_memory_estimate(sim)
@@ -179,6 +187,41 @@ contains
     sim%num%surface_llf = cfg%surface_flux == 'llf'
 
   contains
+
+    !> Heat conduction and reaction (m_conduction, m_reaction): on as &physics resolved them;
+    !> with reaction, rho lambda is appended to every phase's variables; and why, for run.log.
+    subroutine heat_effects()
+      sim%ph%has_conduction = any(sim%ph%conductivity > 0.0_wp)
+      sim%ph%has_reaction = any(sim%ph%rt%model /= reaction_none)
+      if (sim%ph%has_reaction) then
+        sim%ph%nflow = sim%ph%nflow + 1
+        sim%ph%i_lambda = sim%ph%nflow
+      end if
+      sim%ph%conduction_reason = 'off: no material in use has a conductivity'
+      if (.not. cfg%heat_conduction .and. any(is_set(cfg%materials(1:cfg%n_materials) &
+        %conductivity))) sim%ph%conduction_reason = 'off: &physics heat_conduction = .false.'
+      if (sim%ph%has_conduction) sim%ph%conduction_reason = 'on: material' // &
+        materials_with(sim%ph%conductivity > 0.0_wp) // ' has a conductivity'
+      sim%ph%reaction_reason = 'off: no material in use has a reaction'
+      if (.not. cfg%reaction .and. any(cfg%materials(1:cfg%n_materials)%reaction /= 'none' &
+        .and. cfg%materials(1:cfg%n_materials)%reaction /= '')) &
+        sim%ph%reaction_reason = 'off: &physics reaction = .false.'
+      if (sim%ph%has_reaction) sim%ph%reaction_reason = 'on: material' // &
+        materials_with(sim%ph%rt%model /= reaction_none) // ' reacts (rho lambda in the state)'
+    end subroutine heat_effects
+
+    !> the materials of the phases marked, each once
+    function materials_with(mark) result(names)
+      logical, intent(in) :: mark(:)
+      character(len=:), allocatable :: names
+      integer :: pp
+      names = ''
+      do pp = 1, size(mark)
+        if (mark(pp) .and. .not. any(mark(1:pp-1) .and. &
+          sim%ph%material(1:pp-1) == sim%ph%material(pp))) &
+          names = names // ' ' // trim(sim%ph%material(pp))
+      end do
+    end function materials_with
 
     !> the run log's reason for strength of phase pp's material
     function strength_text(pp) result(t)
@@ -367,12 +410,13 @@ contains
       real(wp), intent(inout) :: qc(:)
       real(wp), intent(in) :: x(3), phi(1, 1, 1, sim%ls%n)
       integer :: p, nb, off, own(1, 1, 1)
-      real(wp) :: rho, vel(3), pres, e(1), bigphi(1, 1, 1), rest(2)
+      real(wp) :: rho, vel(3), pres, e(1), bigphi(1, 1, 1), rest(2), temp
       do p = 1, sim%ph%nphase
         rest = sim%ph%rest(:, p)
         rho = rest(1)
         pres = rest(2)
         vel = 0.0_wp
+        temp = -1.0_wp
         do nb = 1, sim%cfg%n_bodies
           if (.not. paints(nb, p)) cycle
           associate (body => sim%cfg%bodies(nb))
@@ -383,6 +427,14 @@ contains
               * sin(two_pi * dot_product(body%wavevector, x)) &
               * product(sinc(0.5_wp * two_pi * body%wavevector * sim%lay%dx)))
             pres = body%p
+            temp = -1.0_wp
+            if (is_set(body%T)) then
+              ! a body given by its temperature: the perturbation is of T, at rho
+              rho = body%rho
+              temp = body%T * (1.0_wp + body%amplitude &
+                * sin(two_pi * dot_product(body%wavevector, x)) &
+                * product(sinc(0.5_wp * two_pi * body%wavevector * sim%lay%dx)))
+            end if
             vel = body%velocity
           end associate
         end do
@@ -392,9 +444,16 @@ contains
             rho = rest(1)
             pres = rest(2)
             vel = 0.0_wp
+            temp = -1.0_wp
           end if
         end if
-        call eos_energy(sim%ph%eos(p), 1, [rho], [pres], e)
+        if (temp > 0.0_wp) then
+          ! T is linear in e at fixed rho with slope 1 / cv for every eos (eq. 2.11)
+          call eos_temperature(sim%ph%eos(p), 1, [rho], [0.0_wp], e)
+          e = sim%ph%eos(p)%cv * (temp - e)
+        else
+          call eos_energy(sim%ph%eos(p), 1, [rho], [pres], e)
+        end if
         off = sim%ph%lo(p) - 1
         qc(off + 1:off + sim%ph%nflow) = 0.0_wp
         qc(off + i_rho) = rho
@@ -517,6 +576,10 @@ contains
           sim%blocks(b)%q(:, :, :, sim%ph%lo(p):sim%ph%hi(p)), r, good)
         rate = max(rate, r)
         all_good = all_good .and. good
+        ! explicit conduction: dt = cfl / rate at most half its stable step, 1 / rate_c
+        if (sim%ph%conductivity(p) > 0.0_wp) rate = max(rate, 2.0_wp * sim%cfg%cfl &
+          * conduction_rate(sim%blocks(b)%lay, sim%ph%conductivity(p), sim%ph%eos(p)%cv, &
+          sim%blocks(b)%q(:, :, :, sim%ph%lo(p) + i_rho - 1)))
       end do
     end do
     ok = .not. comm_any(.not. all_good)

@@ -17,6 +17,7 @@ module m_step
   use m_comm, only: comm_any, comm_sum
   use m_balance, only: balance_now, balance_add
   use m_timers, only: timer_start, timer_stop
+  use m_phase_heat, only: phase_heat
   implicit none
   private
   public :: advance
@@ -100,6 +101,13 @@ contains
     if (.not. sim%diag%step_failed) call phase_states(sim%gf, sim%cut, sim%ls, sim%ph, &
       sim%plan, sim%lay, sim%bc, sim%blocks, sim%clk%time + sim%clk%dt, sim%clk%dt, &
       sim%cfg%rk_order, sim%cfg%thermal, states_end, sim%diag%step_failed)
+    ! heat conduction and reaction, once per step (m_phase_heat; only when the deck has them)
+    if ((sim%ph%has_conduction .or. sim%ph%has_reaction) .and. .not. sim%diag%step_failed) then
+      call timer_start(sim%timers, 'heat')
+      call phase_heat(sim%gf, sim%ls, sim%ph, sim%fix, sim%plan, sim%lay, sim%bc, sim%blocks, &
+        sim%clk%time + sim%clk%dt, sim%clk%dt)
+      call timer_stop(sim%timers, 'heat')
+    end if
     sim%diag%fallback_faces = sim%diag%fallback_faces + int(nf, i8)
     sim%diag%fallback_step = comm_sum(int(nf, i8))
   end subroutine advance

@@ -28,6 +28,9 @@ module m_config
     real(wp) :: jc_b = unset, jc_n = unset, jc_c = unset, jc_m = unset, t_melt = unset
     real(wp) :: eps_rate0 = unset, vp_chi = unset, vp_m = unset, vp_n = unset
     real(wp) :: taylor_quinney = unset, melt_slope = unset
+    real(wp) :: conductivity = unset
+    character(len=name_len) :: reaction = ''
+    real(wp) :: reaction_q = unset
   end type material_t
 
   !> One &body group.

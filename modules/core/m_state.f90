@@ -3,7 +3,9 @@
 !> components of rho S (deviatoric stress, symmetric: xx, yy, zz, xy, yz, xz), rho eps_p
 !> (effective plastic strain) and rho w_c (the part 1 - beta of the plastic work that is
 !> stored in the lattice rather than turned into heat, beta = Taylor-Quinney) follow, and only
-!> then.
+!> then. When a material reacts (&physics reaction), rho lambda (lambda the mass fraction
+!> burnt, m_reaction) is appended after these, as the phase's last variable (phases_t's
+!> i_lambda); without reaction the layout is the one above.
 module m_state
   implicit none
   private

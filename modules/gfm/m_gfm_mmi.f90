@@ -18,6 +18,7 @@
 module m_gfm_mmi
   use m_kinds, only: wp
   use m_gfm_stress, only: reflect_stress
+  use m_state, only: n_solid
   implicit none
   private
   public :: gfm_mmi
@@ -40,8 +41,8 @@ contains
     ui = dot_product(wi(2:4), nrm)
     uk = dot_product(wk(2:4), nrm)
     snn = 0.0_wp
-    if (size(wi) > 5) snn(1) = normal_deviator(wi)
-    if (size(wk) > 5) snn(2) = normal_deviator(wk)
+    if (size(wi) >= n_solid) snn(1) = normal_deviator(wi)
+    if (size(wk) >= n_solid) snn(2) = normal_deviator(wk)
     pi = wi(ip) - snn(1)
     pk = wk(ip) - snn(2)
     pstar = (zk * pi + zi * pk + zi * zk * (ui - uk)) / (zi + zk)

@@ -6,6 +6,7 @@
 module m_gfm_mri
   use m_kinds, only: wp
   use m_gfm_stress, only: reflect_stress
+  use m_state, only: n_solid
   implicit none
   private
   public :: gfm_mri
@@ -20,7 +21,7 @@ contains
     real(wp), intent(out) :: wg(:)   !< ghost state
     wg = wi
     wg(2:4) = wi(2:4) + 2.0_wp * dot_product(vb - wi(2:4), nrm) * nrm
-    if (size(wi) > 5) call reflect_stress(ndim, nrm, wi, .false., wg)
+    if (size(wi) >= n_solid) call reflect_stress(ndim, nrm, wi, .false., wg)
   end subroutine gfm_mri
 
 end module m_gfm_mri

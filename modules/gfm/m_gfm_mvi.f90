@@ -8,6 +8,7 @@
 module m_gfm_mvi
   use m_kinds, only: wp
   use m_gfm_stress, only: reflect_stress
+  use m_state, only: n_solid
   implicit none
   private
   public :: gfm_mvi
@@ -20,7 +21,7 @@ contains
     real(wp), intent(in) :: wi(:)    !< primitive state at the image point
     real(wp), intent(out) :: wg(:)   !< ghost state
     wg = wi
-    if (size(wi) > 5) call reflect_stress(ndim, nrm, wi, .true., wg)
+    if (size(wi) >= n_solid) call reflect_stress(ndim, nrm, wi, .true., wg)
   end subroutine gfm_mvi
 
 end module m_gfm_mvi

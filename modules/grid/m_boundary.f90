@@ -12,7 +12,7 @@ module m_boundary
   use m_text, only: choice_index
   use m_layout, only: layout_t, block_neighbor, wall_neighbor
   use m_blocks, only: block_t
-  use m_state, only: i_rho, i_mx, i_en, n_euler, stress_index
+  use m_state, only: i_rho, i_mx, i_en, n_solid, stress_index
   use m_halo, only: halo_plan_t, halo_exchange, halo_refresh
   use m_phases, only: phases_t
   implicit none
@@ -234,7 +234,7 @@ contains
       do k = lo(3), hi(3)
         do j = lo(2), hi(2)
           do i = lo(1), hi(1)
-            if (nflow > n_euler) then
+            if (nflow >= n_solid) then
               ! mirror in direction d: the shear stresses S_dt change sign
               do m = 1, 3
                 if (m == d) cycle

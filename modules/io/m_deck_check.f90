@@ -36,7 +36,7 @@ module m_deck_check
   !> the output fields (what each eos and strength model needs is listed beside its name,
   !> eos_needs of m_eos, strength_model_needs of m_yield)
   character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach, phase, ' &
-    // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
+    // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq, lambda'
   !> the fields of strength only (deviatoric stress, plastic strain, von Mises stress)
   character(len=*), parameter :: strength_fields = 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
   !> the standard output fields; T, eps_p and seq only where they apply (deck_check)
@@ -84,6 +84,7 @@ contains
     ! strain and von Mises stress where strength is on
     if (.not. given('output', 'fields')) then
       kept = pack(default_fields, [(.true., i = 1, 6), temperature, cfg%strength, cfg%strength])
+      if (cfg%reaction) kept = [character(len=name_len) :: kept, 'lambda']
       cfg%n_fields = size(kept)
       cfg%fields = ''
       cfg%fields(1:size(kept)) = kept
@@ -185,13 +186,14 @@ contains
       type(material_t), target, intent(inout) :: m
       type(deck_var_t), allocatable :: vars(:)
       character(len=:), allocatable :: in_m, model, why
-      integer :: k, ke, km, ks, n_before, n_start
+      integer :: k, ke, km, ks, kr, n_before, n_start
       n_start = deck_error_count()
       ! a name that could not be read: which material this is, and so its values, is unknown
       if (len_trim(m%name) == 0 .and. deck_has_error('&material name')) return
       call deck_table(cfg, m, cfg%bodies(1), vars)
       vars = pack(vars, vars%group == 'material')
       ks = var_index(vars, 'strength_model')   ! the eos lines before it, strength's after
+      kr = var_index(vars, 'conductivity')     ! conduction's and reaction's lines from here
       call rule(len_trim(m%name) == 0, 'material name', 'missing required value')
       in_m = " in material '" // trim(m%name) // "'"
       call rule(.not. valid_name(m%name), 'material name', "'" // trim(m%name) &
@@ -212,7 +214,7 @@ contains
       ! strength values (the table's lines after strength_model) without a model would be
       ! ignored without a word: refuse them
       if (len_trim(m%strength_model) == 0) then
-        do k = ks + 1, size(vars)
+        do k = ks + 1, kr - 1
           call rule(is_set(vars(k)%r), 'material strength_model', 'missing required value' &
             // in_m // ' (it gives ' // trim(vars(k)%name) // "; set strength_model = " &
             // "'none' to run without strength)")
@@ -239,12 +241,28 @@ contains
         'needs t_melt, the melt temperature at rho0 (HMX: 550 K)' // in_m)
       ! vp_m < 1 (its line): the flow stress then grows with the rate, the return has one root
       call check_allowed(vars(ks + 1:), in_m)
+      call check_heat(m, in_m)
       ! the strength modules' own test of the parameters, should it know more than the above
       if (deck_error_count() > n_start .or. ke == 0 .or. km == 0) return
       why = strength_problem(strength_from_material(m))
       call rule(len_trim(why) > 0, 'material strength_model', trim(why) // in_m)
 
     end subroutine check_material
+
+    !> One material's conduction and reaction (m_conduction, m_reaction): both act on the
+    !> temperature, so they need cv; a reaction needs its heat, and a heat needs a reaction.
+    subroutine check_heat(m, in_m)
+      type(material_t), intent(inout) :: m
+      character(len=*), intent(in) :: in_m
+      if (len_trim(m%reaction) == 0) m%reaction = 'none'
+      call rule(m%reaction /= 'none' .and. .not. is_set(m%reaction_q), 'material reaction_q', &
+        "missing required value (reaction '" // trim(m%reaction) // "' releases it)" // in_m)
+      call rule(m%reaction == 'none' .and. is_set(m%reaction_q), 'material reaction', &
+        "missing required value (reaction_q is given; HMX: 'henson')" // in_m)
+      call rule((m%reaction /= 'none' .or. is_set(m%conductivity)) .and. .not. is_set(m%cv), &
+        'material cv', 'missing required value (conduction and reaction need the ' &
+        // 'temperature)' // in_m)
+    end subroutine check_heat
 
     !> A material that the deck uses by name: defined, built in (then added), or one of the
     !> special names allowed at that place.
@@ -345,12 +363,37 @@ contains
         // 'material in use softens with temperature (johnson_cook) or heats by plastic ' &
         // 'work (taylor_quinney > 0) (leave thermal out: it is on exactly when a material ' &
         // 'needs it)')
+      call check_heat_physics()
       do k = 1, cfg%n_fields
+        call rule(.not. cfg%reaction .and. cfg%fields(k) == 'lambda', 'output fields', &
+          "field 'lambda' needs reaction, which is off (no material in use has a reaction)")
         call rule(.not. cfg%strength .and. in_list(cfg%fields(k), strength_fields), &
           'output fields', "field '" // trim(cfg%fields(k)) // "' needs strength, which is " &
           // 'off (no material in use has a strength_model, or &physics strength = .false.)')
       end do
     end subroutine check_physics
+
+    !> The &physics switches heat_conduction and reaction: left out, on exactly when a
+    !> material in use has a conductivity, or a reaction; .true. only when one does. Not with
+    !> the cut-cell update, whose content would not take their sources (not built).
+    subroutine check_heat_physics()
+      logical :: used(cfg%n_materials), needs_conduction, needs_reaction
+      integer :: k
+      associate(m => cfg%materials(1:cfg%n_materials))
+        used = [(material_used(m(k)%name), k = 1, size(m))]
+        needs_conduction = any(used .and. is_set(m%conductivity))
+        needs_reaction = any(used .and. m%reaction /= 'none' .and. m%reaction /= '')
+      end associate
+      if (.not. given('physics', 'heat_conduction')) cfg%heat_conduction = needs_conduction
+      if (.not. given('physics', 'reaction')) cfg%reaction = needs_reaction
+      call rule(cfg%heat_conduction .and. .not. needs_conduction, 'physics heat_conduction', &
+        '.true. but no material in use has a conductivity (HMX: 0.4 W/(m K))')
+      call rule(cfg%reaction .and. .not. needs_reaction, 'physics reaction', '.true. but no ' &
+        // "material in use has a reaction (HMX: reaction = 'henson', reaction_q = 5.5e6)")
+      call rule((cfg%heat_conduction .or. cfg%reaction) .and. cfg%conserve == 'cut_cell', &
+        'numerics conserve', "'cut_cell' with heat conduction or reaction is not built (the " &
+        // "cut cells' content does not take their sources; use 'mass_energy')")
+    end subroutine check_heat_physics
 
     !> Whether the base material or a body uses the material called name.
     logical function material_used(name)

@@ -22,6 +22,7 @@ module m_deck_schema
   use m_gfm, only: probe_names
   use m_eos, only: eos_names
   use m_yield, only: strength_model_names
+  use m_reaction, only: reaction_names
   implicit none
   private
   public :: deck_table, group_table, group_names, var_index
@@ -121,8 +122,9 @@ contains
     t%g = 'physics'
     call t%add('strength', c%strength, '.true.', 'strength (left out: when a material needs it)')
     call t%add('thermal', c%thermal, '.true.', 'plastic heating, softening (likewise)')
-    call t%add('heat_conduction', c%heat_conduction, '.false.', 'not built yet')
-    call t%add('reaction', c%reaction, '.false.', 'not built yet')
+    call t%add('heat_conduction', c%heat_conduction, '.true.', 'conduction (left out: when a ' &
+      // 'material has a conductivity)')
+    call t%add('reaction', c%reaction, '.true.', 'reaction (left out: when a material reacts)')
     t%g = 'material'
     call t%add('name', m%name, "'water'", 'name; a library entry of that name is the start')
     call t%add('eos', m%eos, "'stiffened_gas'", 'equation of state', eos_names, .true.)
@@ -162,6 +164,12 @@ contains
     call t%add('vp_n', m%vp_n, '1.58', 'power law n', allowed='> 0.0')
     call t%add('taylor_quinney', m%taylor_quinney, '0.9', 'share of plastic work that heats', &
       allowed='in [0, 1] (the share of plastic work that heats)')
+    call t%add('conductivity', m%conductivity, '0.4', 'heat conductivity k (W/(m K))', &
+      allowed='> 0.0')
+    call t%add('reaction', m%reaction, "'henson'", 'decomposition kinetics (empty: none)', &
+      reaction_names, .true.)
+    call t%add('reaction_q', m%reaction_q, '5.5e6', 'heat released per kg burnt (J/kg)', &
+      allowed='> 0.0')
     t%g = 'body'
     call t%add('name', b%name, "'projectile'", 'name (empty: body<k>)')
     call t%add('material', b%material, "'copper'", "a material, 'void' or 'rigid'")
@@ -176,7 +184,7 @@ contains
     call t%add('rho', b%rho, '1000.0', "initial density (unset: the material's rho0)")
     call t%add('p', b%p, '1.0e5', "initial pressure (unset: the material's p0)")
     call t%add('T', b%T, '300.0', 'initial temperature instead of p (K)')
-    call t%add('amplitude', b%amplitude, '0.2', 'rho (1 + amplitude sin(2 pi k.x))', &
+    call t%add('amplitude', b%amplitude, '0.2', 'rho (or T if given) (1 + a sin(2 pi k.x))', &
       allowed='in (-1, 1) so that rho (1 + amplitude sin(2 pi k.x)) stays > 0')
     call t%add('wavevector', b%wavevector, '1.0, 0.0, 0.0', 'k of that perturbation (1/m)')
     t%g = 'output'

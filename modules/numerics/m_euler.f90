@@ -6,6 +6,9 @@
 !> one, and the face flux (m_flux) is differenced. In axisymmetric geometry (x = r,
 !> y = z) the radial fluxes are differenced in r-weighted (conservative) form and the hoop
 !> pressure p / r is added to the radial momentum.
+!> With reaction (m_reaction) the last variable of a phase is rho lambda, after the Euler or
+!> the solid variables: 6 or 14 variables instead of 5 or 13. It is carried by the mass flux
+!> with lambda upwinded and bounded (eq. 8.6), like eps_p and w_c.
 !> Also here: the largest signal rate for the CFL step and the RK stage update.
 !> Kernels only: no MPI, no I/O, no allocation in the loops (workspace is allocated once).
 module m_euler
@@ -114,12 +117,14 @@ contains
     logical, intent(in), optional :: trouble(:, :, :)
     !> the phase's cut-cell geometry: rhs is the rate of its content (m_gfm_cut)
     type(cut_faces_t), intent(in), optional :: cut
-    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid), nr, nb, nv, m, c, nc
+    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nr, nb, nv, m, c, nc, ns
     real(wp) :: rdx, r
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
     nr = hi(1) - lo(1) + 1
     nv = size(q, 4)
+    ! the Euler or solid variables; one more is rho lambda (reaction)
+    ns = merge(n_solid, n_euler, nv >= n_solid)
     do k = lo(3), hi(3)
       do j = lo(2), hi(2)
         call primitive_row(eos, nr, q(:, j, k, i_rho), q(:, j, k, i_mx), q(:, j, k, i_my), &
@@ -141,20 +146,22 @@ contains
       select case (d)
       case (1)   ! x pencils at each k, bundled over j
         perm = [1, 2, 3, 4, 5, i_sxx, i_sxy, i_sxz, i_syy, i_szz, i_syz, i_epsp, &
-          i_wcold]
+          i_wcold, 0]
         nb = lay%bsize(2)
         nc = lay%bsize(3)
       case (2)   ! y pencils at each k, bundled over i
         perm = [1, 3, 2, 4, 5, i_syy, i_sxy, i_syz, i_sxx, i_szz, i_sxz, i_epsp, &
-          i_wcold]
+          i_wcold, 0]
         nb = lay%bsize(1)
         nc = lay%bsize(3)
       case default   ! z pencils at each j, bundled over i
         perm = [1, 4, 2, 3, 5, i_szz, i_sxz, i_syz, i_sxx, i_syy, i_sxy, i_epsp, &
-          i_wcold]
+          i_wcold, 0]
         nb = lay%bsize(1)
         nc = lay%bsize(2)
       end select
+      ! rho lambda keeps its place, after the Euler or solid variables
+      if (nv > ns) perm(nv) = nv
       do c = 1, nc
         if (d == 1) then
           call bundle_x(c, nb, n, g, work%pw)
@@ -163,13 +170,13 @@ contains
         end if
         call upwind_faces(d, c, nb, n, work%up, work%surf)
         call low_faces(d, c, nb, n, work%low)
-        if (present(cut) .and. nv > n_euler) then
+        if (present(cut) .and. ns > n_euler) then
           call partial_faces(d, c, nb, n, work%lowb)
-          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
+          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, ns, wall(:, d), &
             vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
             work%er, work%cl, work%cr, work%f, nfallback, failed, work%lowb)
         else
-          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, wall(:, d), &
+          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, ns, wall(:, d), &
             vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
             work%er, work%cl, work%cr, work%f, nfallback, failed)
         end if
@@ -192,20 +199,20 @@ contains
               ! a cut cell: the hoop stress over its wet part, of planar area plane dr dz
               rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + cut%plane(i, j, k) / r &
                 * work%prim(i, j, k, 5)
-              if (nv > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
+              if (ns > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
                 - cut%plane(i, j, k) / r * work%prim(i, j, k, i_szz)
               cycle
             end if
             rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + work%prim(i, j, k, 5) / r
             ! with strength the hoop stress is p - S_theta theta (S_zz holds the hoop one)
-            if (nv > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
+            if (ns > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
               - work%prim(i, j, k, i_szz) / r
           end do
         end do
       end do
     end if
 
-    if (nv > n_euler) then
+    if (ns > n_euler) then
       if (present(cut)) then
         call stress_rates(lay, st, offset, work%prim, rhs, cut%alpha)
       else
@@ -439,11 +446,12 @@ contains
   !> Face states and fluxes of a bundle of nb pencils of n cells: reconstruct, test
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
-  subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, wall, vwall, up, &
+  subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, ns, wall, vwall, up, &
       surf, low, pw, wl, wr, el, er, cl, cr, f, nfallback, failed, low_bounded)
     type(eos_t), intent(in) :: eos
     real(wp), intent(in) :: shear
-    integer, intent(in) :: scheme, flux_kind, nb, n, g, nv
+    !> nv variables: ns of the Euler (5) or solid (13) equations, then rho lambda if nv > ns
+    integer, intent(in) :: scheme, flux_kind, nb, n, g, nv, ns
     logical, intent(in) :: wall(2)
     logical, intent(in) :: up(nb, 0:n)    !< faces whose scalars take the upwind flux
     integer, intent(in) :: surf(nb, 0:n)  !< faces on a body's surface (m_flux)
@@ -458,9 +466,10 @@ contains
     logical, intent(in), optional :: low_bounded(nb, 0:n)
     integer :: i, b, nf
     nf = nb * (n + 1)
-    ! eps_p and w_c (pencil places i_epsp .. nv) keep face values within their neighbours'
-    ! range, so that their upwind transport stays within it (m_reconstruct's bound_faces)
-    call reconstruct_faces(scheme, nb, n, g, nv, pw, wl, wr, bounded_from=i_epsp)
+    ! eps_p, w_c and lambda (pencil places i_epsp .. nv, or lambda alone after a gas) keep face
+    ! values within their neighbours' range, so that their upwind transport stays within it
+    ! (m_reconstruct's bound_faces)
+    call reconstruct_faces(scheme, nb, n, g, nv, pw, wl, wr, bounded_from=min(i_epsp, ns + 1))
     if (any(low)) then
       do i = 0, n
         do b = 1, nb
@@ -485,12 +494,12 @@ contains
     if (wall(1)) then
       wl(:, 0, :) = wr(:, 0, :)
       wl(:, 0, 2) = 2.0_wp * vwall(1) - wr(:, 0, 2)
-      if (nv > n_euler) wl(:, 0, 7:8) = -wr(:, 0, 7:8)
+      if (ns > n_euler) wl(:, 0, 7:8) = -wr(:, 0, 7:8)
     end if
     if (wall(2)) then
       wr(:, n, :) = wl(:, n, :)
       wr(:, n, 2) = 2.0_wp * vwall(2) - wl(:, n, 2)
-      if (nv > n_euler) wr(:, n, 7:8) = -wl(:, n, 7:8)
+      if (ns > n_euler) wr(:, n, 7:8) = -wl(:, n, 7:8)
     end if
     call eos_sound_speed2(eos, nf, wl(:, :, 1), wl(:, :, 5), cl)
     call eos_sound_speed2(eos, nf, wr(:, :, 1), wr(:, :, 5), cr)
@@ -513,7 +522,7 @@ contains
         end do
       end do
     end if
-    if (nv > n_euler) then
+    if (ns > n_euler) then
       ! longitudinal wave speed: bulk plus 4 G / (3 rho)
       cl = cl + (4.0_wp / 3.0_wp) * shear / wl(:, :, 1)
       cr = cr + (4.0_wp / 3.0_wp) * shear / wr(:, :, 1)
@@ -522,10 +531,20 @@ contains
     cr = sqrt(max(cr, 0.0_wp))
     call eos_energy(eos, nf, wl(:, :, 1), wl(:, :, 5), el)
     call eos_energy(eos, nf, wr(:, :, 1), wr(:, :, 5), er)
-    if (nv > n_euler) then
-      call flux_llf_solid(nf, nv, up, wl, wr, el, er, cl, cr, f, surf)
+    if (ns > n_euler) then
+      call flux_llf_solid(nf, ns, up, wl, wr, el, er, cl, cr, f, surf)
     else
       call face_flux(flux_kind, nf, wl, wr, el, er, cl, cr, f)
+    end if
+    ! rho lambda: the mass flux times the upwind lambda (at a surface, the real cell's)
+    if (nv > ns) then
+      do i = 0, n
+        do b = 1, nb
+          f(b, i, nv) = f(b, i, 1) * merge(wl(b, i, nv), wr(b, i, nv), f(b, i, 1) >= 0.0_wp)
+          if (surf(b, i) == 1) f(b, i, nv) = f(b, i, 1) * wl(b, i, nv)
+          if (surf(b, i) == 2) f(b, i, nv) = f(b, i, 1) * wr(b, i, nv)
+        end do
+      end do
     end if
   end subroutine faces_and_fluxes
 
