@@ -435,7 +435,7 @@ contains
       call rule(b%count == 0 .and. .not. b%volume_fraction > 0.0_wp, 'body volume_fraction', &
         'give volume_fraction > 0 or count > 0 for random_spheres' // in_b)
       call rule(b%count > 0 .and. b%volume_fraction > 0.0_wp, 'body count', &
-        'give count or volume_fraction, not both' // in_b)
+        'give count or volume_fraction' // in_b // ', not both')
       call rule(dist /= 'uniform' .and. .not. b%radius > 0.0_wp, 'body radius', 'must be > 0 ' &
         // 'for a ' // dist // ' size_distribution' // in_b // gr(b%radius))
       call rule(dist == 'uniform' .and. .not. b%radius_min > 0.0_wp, 'body radius_min', &
@@ -456,9 +456,9 @@ contains
         // 'radius ' // real_text(rmax) // ' with its gap does not fit in lo..hi' // in_b)
       ! random sequential addition jams at about 0.547 of the area (2D), 0.38 of the volume
       jam = merge(0.5_wp, merge(0.35_wp, 0.9_wp, cfg%ndim == 3), cfg%ndim == 2)
-      call rule(b%volume_fraction > jam, 'body volume_fraction', 'random spheres placed one ' &
-        // 'by one jam near 0.55 of the area (2D), 0.38 of the volume (3D): at most ' &
-        // real_text(jam) // in_b // gr(b%volume_fraction))
+      call rule(b%volume_fraction > jam, 'body volume_fraction', 'must be <= ' &
+        // real_text(jam) // in_b // ': spheres placed one by one jam near 0.55 of the area ' &
+        // '(2D), 0.38 of the volume (3D)' // gr(b%volume_fraction))
     end subroutine check_generator
 
   end subroutine deck_check
