@@ -46,7 +46,7 @@ module m_deck_schema
   type :: table_t
     character(len=8) :: g = ''
     integer :: n = 0
-    type(deck_var_t) :: v(128)
+    type(deck_var_t), allocatable :: v(:)   ! (grown by add: no limit on the lines)
   contains
     procedure :: add
   end type table_t
@@ -270,6 +270,8 @@ contains
     if (present(choices)) v%choices = joined(choices)
     if (present(empty_ok)) v%empty_ok = empty_ok
     if (present(allowed)) v%allowed = allowed
+    if (.not. allocated(t%v)) allocate(t%v(64))
+    if (t%n == size(t%v)) t%v = [t%v, t%v]
     t%n = t%n + 1
     t%v(t%n) = v
   end subroutine add
