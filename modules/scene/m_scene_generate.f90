@@ -446,10 +446,11 @@ contains
     logical, allocatable :: seen(:, :)   ! seen(c, v): a neighbour of v has colour c
     integer :: n, step, v, k, c, sat(size(adj, 1)), deg(size(adj, 1))
     n = size(adj, 1)
-    allocate(seen(n + 1, n))
+    deg = count(adj, 2)
+    ! no vertex needs a colour above its degree + 1
+    allocate(seen(maxval([0, deg]) + 2, n))
     seen = .false.
     sat = 0
-    deg = count(adj, 2)
     colour = 0
     ncolours = 0
     do step = 1, n
