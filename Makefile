@@ -19,7 +19,9 @@ SHELL := /bin/bash
 FC := mpif90
 HDF5_INC := /usr/include/hdf5/openmpi
 HDF5_LIB := /usr/lib/x86_64-linux-gnu/hdf5/openmpi
-LIBS := -L$(HDF5_LIB) -lhdf5_fortran -lhdf5 -lmetis
+# FFTW 3 (libfftw3-dev): the random-field scene generator (modules/scene/m_scene_field)
+FFTW_INC := /usr/include
+LIBS := -L$(HDF5_LIB) -lhdf5_fortran -lhdf5 -lmetis -lfftw3
 PY := /usr/bin/python3
 export OMPI_ALLOW_RUN_AS_ROOT := 1
 export OMPI_ALLOW_RUN_AS_ROOT_CONFIRM := 1
@@ -27,7 +29,7 @@ export OMPI_MCA_rmaps_base_oversubscribe := 1
 # mpirun otherwise waits a 1 s kill round after any rank exits non-zero (a bad deck)
 export OMPI_MCA_odls_base_sigkill_timeout := 0
 
-STD_FLAGS := -std=f2018 -ffree-line-length-132 -I$(HDF5_INC)
+STD_FLAGS := -std=f2018 -ffree-line-length-132 -I$(HDF5_INC) -I$(FFTW_INC)
 REL_FLAGS := $(STD_FLAGS) -O3 -march=native -g -fno-backtrace
 # -Wno-maybe-uninitialized: gfortran 12 reports the hidden length of deferred-length
 # character results as "may be used uninitialized" at -O1 (false positives)
@@ -42,7 +44,7 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_text core/m_signals
   eos/m_eos numerics/m_reaction numerics/m_phases numerics/m_conduction grid/m_boundary numerics/m_reconstruct \
   levelset/m_levelset_derivatives levelset/m_levelset_advect levelset/m_levelset_reinit \
   levelset/m_levelset_geometry levelset/m_levelset_bodies levelset/m_levelset_motion \
-  levelset/m_levelset_cut scene/m_scene numerics/m_flux numerics/m_elastoplastic \
+  levelset/m_levelset_cut scene/m_scene_generate scene/m_scene_field scene/m_scene numerics/m_flux numerics/m_elastoplastic \
   numerics/m_runge_kutta numerics/m_euler numerics/m_fallback gfm/m_gfm_probe gfm/m_gfm_stress gfm/m_gfm_mvi \
   gfm/m_gfm_mri gfm/m_gfm_mmi gfm/m_gfm gfm/m_gfm_conserve \
   gfm/m_gfm_cut_cells gfm/m_gfm_cut_close gfm/m_gfm_cut gfm/m_gfm_stage gfm/m_phase_heat strength/m_material_library numerics/m_numerics_defaults \
@@ -64,7 +66,7 @@ SRC := $(subst modules/parallel/m_comm.f90,modules/parallel/m_comm_mpi.f90 \
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
 UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset \
-  test_gfm test_euler test_boundary test_partition test_levelset_cut test_hotspot test_reaction
+  test_gfm test_euler test_boundary test_partition test_levelset_cut test_hotspot test_reaction test_scene
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
 .PHONY: all deps check check-caf check-batch run verify bench clean unit accuracy accuracy-taylor stability
@@ -108,13 +110,14 @@ CAF_UNIT_BIN := bin/test_halo-caf
 # to a few minutes: gas 1D (ideal, stiffened), 2D and 3D on 1-4 images, restart,
 # axisymmetric, moving piston, solids 1D and 2D, rigid level set, gas-water phases, void
 # carving, solid bodies with level sets, colliding bodies on 1-4 images, deck errors,
-# blocks migrating between images (taylor_bar_rebalance).
+# blocks migrating between images (taylor_bar_rebalance), a generated scene (the random
+# field of FFTW, every image building the same: random_field_ranks).
 # Left out: cases that repeat a path (more gas decks, the other restart, 3D Taylor bar) and
 # the command cases that drive tools (their solver runs are MPI-build runs)
 CAF_CASES := sod_eno3_llf_400 water_shock_tube implosion_2d_ranks blast_3d_ranks \
   implosion_2d_restart sedov_axi_small piston_gas copper_impact_250 elastic_wave_2d \
   cylinder_mach3_coarse gas_water_tube plate_hole taylor_bar_short disc_impact_ranks bad_decks \
-  taylor_bar_rebalance
+  taylor_bar_rebalance random_field_ranks
 # a 1-image coarray run (a singleton, as regress/run starts np = 1) cannot use Open MPI's
 # UCX one-sided component (MPI_ERR_WIN at start-up): any other (Open MPI picks; pt2pt works)
 CAF_ENV := OMPI_MCA_osc=^ucx

@@ -61,6 +61,7 @@ contains
     call log_line('effects: heat conduction ' // trim(s%ph%conduction_reason))
     call log_line('effects: reaction ' // trim(s%ph%reaction_reason))
     call log_line('effects: interfaces ' // trim(interfaces_reason(s)))
+    call write_scenes(s)
     if (s%ls%n > 0) call log_line('gfm: cut-cell update ' // trim(s%cut%reason))
     if (s%ls%n > 0 .and. s%ph%has_strength) call log_line('gfm: conservation fix ' // &
       trim(s%fix%reason))
@@ -79,6 +80,38 @@ contains
     call log_line(line)
     call write_memory_estimate(s)
   end subroutine write_run_header
+
+  !> What the scene generators made of each generated body (manual/scenes.md): how many
+  !> spheres, the volume fraction of its box made against the one asked for.
+  subroutine write_scenes(s)
+    type(sim_t), intent(in) :: s
+    character(len=line_len) :: line
+    integer :: b
+    do b = 1, s%cfg%n_bodies
+      associate (body => s%cfg%bodies(b))
+        select case (trim(body%shape))
+        case ('random_spheres')
+          write(line, '(a,i0,a,f6.4,a,i0,a)') "scene: body '" // trim(body%name) &
+            // "': ", size(body%spheres, 2), ' random spheres, ', body%generated_fraction, &
+            ' of the box lo..hi (seed ', body%seed, '; asked: '
+          if (body%count > 0) then
+            write(line, '(a,a,i0,a)') trim(line), ' count ', body%count, ')'
+          else
+            write(line, '(a,a,f6.4,a)') trim(line), ' volume_fraction ', body%volume_fraction, ')'
+          end if
+        case ('random_field')
+          write(line, '(a,i0,a,i0,a,i0,a,f6.4,a,i0,a,f6.4,a)') "scene: body '" &
+            // trim(body%name) // "': random field on ", size(body%field, 1), ' x ', &
+            size(body%field, 2), ' x ', size(body%field, 3), ' points, ', &
+            body%generated_fraction, ' of the box lo..hi below its level (seed ', body%seed, &
+            '; asked: volume_fraction ', body%volume_fraction, ')'
+        case default
+          cycle
+        end select
+        call log_line(line)
+      end associate
+    end do
+  end subroutine write_scenes
 
   !> The memory estimate made before the grid was allocated (m_simulation), part by part.
   subroutine write_memory_estimate(s)

@@ -24,7 +24,7 @@ module m_simulation
   use m_gfm_cut, only: cut_t, cut_setup
   use m_reconstruct, only: scheme_from_name
   use m_flux, only: flux_from_name, scalar_flux_from_name
-  use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status
+  use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status, scene_generate
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void, ls_rigid, ls_region
   use m_gfm, only: gf_t, gf_fit, probe_from_name
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid
@@ -100,13 +100,16 @@ module m_simulation
 
 contains
 
+  !> (The generated shapes of cfg's bodies, random spheres and fields, are made here, into
+  !> cfg: m_scene's scene_generate.)
   subroutine sim_setup(cfg, sim)
-    type(config_t), intent(in) :: cfg
+    type(config_t), intent(inout) :: cfg
     type(sim_t), intent(inout) :: sim
     logical :: periodic(3)
     integer :: d, p
     integer, allocatable :: work(:)
     type(material_t) :: mat
+    call scene_generate(cfg%bodies(1:cfg%n_bodies), cfg%ndim, base_name(cfg%deck_file))
     sim%cfg = cfg
     do d = 1, 3
       periodic(d) = trim(cfg%bc_lo(d)) == 'periodic'
@@ -608,7 +611,8 @@ contains
       associate (body => sim%cfg%bodies(sim%ls%body(lv(k))))
         centres(:, k) = body%center
         radii(k) = body%radius
-        if (body%shape == 'box') then
+        if (any(body%shape == [character(len=name_len) :: 'box', 'random_spheres', &
+          'random_field'])) then
           centres(:, k) = 0.5_wp * (body%lo + body%hi)
           radii(k) = 0.5_wp * norm2(body%hi(1:sim%lay%ndim) - body%lo(1:sim%lay%ndim))
         end if

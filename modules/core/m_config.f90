@@ -40,6 +40,16 @@ module m_config
     real(wp) :: axis(3) = [0.0_wp, 0.0_wp, 1.0_wp], lo(3) = 0.0_wp, hi(3) = 0.0_wp
     real(wp) :: velocity(3) = 0.0_wp, rho = unset, p = unset, T = unset
     real(wp) :: amplitude = 0.0_wp, wavevector(3) = 0.0_wp
+    ! the scene generators (shape 'random_spheres' or 'random_field' filling the box lo..hi;
+    ! m_scene_generate, m_scene_field)
+    integer :: seed = 1, count = 0
+    character(len=name_len) :: size_distribution = 'fixed'
+    real(wp) :: volume_fraction = 0.0_wp, radius_min = 0.0_wp, radius_max = 0.0_wp
+    real(wp) :: radius_sigma = 0.0_wp, gap = 0.0_wp, correlation_length = 0.0_wp
+    ! not read: what the generator made of them at set-up (m_scene's scene_generate)
+    real(wp), allocatable :: spheres(:, :)    !< (1:3, k) centre, (4, k) radius of sphere k
+    real(wp), allocatable :: field(:, :, :)   !< signed distance on the field's grid over lo..hi
+    real(wp) :: generated_fraction = 0.0_wp   !< the volume fraction of the box it made
   end type body_t
 
   type :: config_t

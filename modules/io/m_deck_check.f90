@@ -12,7 +12,7 @@
 !> was read (m_deck). It does not interpret the physics (eos/, strength/, scene/).
 module m_deck_check
   use m_kinds, only: wp, name_len
-  use m_config, only: config_t, material_t, is_set, max_materials, material_index
+  use m_config, only: config_t, material_t, body_t, is_set, max_materials, material_index
   use m_material_library, only: library_lookup, library_names
   use m_yield, only: strength_problem, strength_from_material, strength_model_names, &
     strength_model_needs
@@ -25,6 +25,7 @@ module m_deck_check
   use m_numerics_defaults, only: numerics_defaults
   use m_layout, only: n_halo, layout_block_size
   use m_scene, only: boxes_cover
+  use m_scene_field, only: field_points, max_field_points
   implicit none
   private
   public :: deck_check
@@ -406,8 +407,10 @@ contains
       type(material_t) :: m
       character(len=:), allocatable :: in_b, what
       integer :: i, d
+      logical :: generated
       do i = 1, cfg%n_bodies
         associate(b => cfg%bodies(i))
+          generated = b%shape == 'random_spheres' .or. b%shape == 'random_field'
           if (len_trim(b%name) == 0) b%name = 'body' // int_text(i)
           in_b = " in body '" // trim(b%name) // "'"
           call rule(.not. valid_name(b%name), 'body name', "'" // trim(b%name) &
@@ -418,12 +421,14 @@ contains
           call rule(len_trim(b%shape) == 0, 'body shape', 'missing required value' // in_b)
           what = 'must be > 0 for a ' // trim(b%shape) // in_b
           do d = 1, cfg%ndim
-            call rule(b%shape == 'box' .and. .not. b%hi(d) > b%lo(d), 'body hi(' // int_text(d) &
+            call rule((b%shape == 'box' .or. generated) .and. .not. b%hi(d) > b%lo(d), &
+              'body hi(' // int_text(d) &
               // ')', 'must be > lo(' // int_text(d) // ') = ' // real_text(b%lo(d)) // in_b &
               // gr(b%hi(d)))
           end do
           call rule((b%shape == 'sphere' .or. b%shape == 'cylinder') .and. .not. &
             b%radius > 0.0_wp, 'body radius', what // gr(b%radius))
+          if (generated) call check_generator(b, in_b)
           call rule(b%shape == 'cylinder' .and. .not. b%length > 0.0_wp, 'body length', what &
             // gr(b%length))
           call rule((b%shape == 'cylinder' .or. b%shape == 'half_space') .and. .not. &
@@ -451,6 +456,55 @@ contains
         end associate
       end do
     end subroutine check_bodies
+
+    !> The generators' variables of body b (manual/scenes.md): what each shape needs, and
+    !> what random sequential addition or the field's grid cannot do.
+    subroutine check_generator(b, in_b)
+      type(body_t), intent(in) :: b
+      character(len=*), intent(in) :: in_b
+      real(wp) :: rmax, jam
+      character(len=:), allocatable :: dist
+      dist = trim(b%size_distribution)
+      if (b%shape == 'random_field') then
+        call rule(.not. b%volume_fraction > 0.0_wp, 'body volume_fraction', 'must be > 0 ' &
+          // 'for a random_field (the share of the box below the threshold)' // in_b)
+        call rule(.not. b%correlation_length > 0.0_wp, 'body correlation_length', &
+          'must be > 0 for a random_field' // in_b // gr(b%correlation_length))
+        if (b%correlation_length > 0.0_wp .and. all(b%hi(1:cfg%ndim) > b%lo(1:cfg%ndim))) &
+          call rule(product(real(field_points(cfg%ndim, b%lo, b%hi, b%correlation_length), &
+          wp)) > max_field_points, 'body correlation_length', 'too small for the box' // in_b &
+          // ': the field has 8 grid points per correlation length and at most 2^22 (raise' &
+          // ' it or shrink lo..hi)' // gr(b%correlation_length))
+        return
+      end if
+      call rule(b%count == 0 .and. .not. b%volume_fraction > 0.0_wp, 'body volume_fraction', &
+        'give volume_fraction > 0 or count > 0 for random_spheres' // in_b)
+      call rule(b%count > 0 .and. b%volume_fraction > 0.0_wp, 'body count', &
+        'give count or volume_fraction' // in_b // ', not both')
+      call rule(dist /= 'uniform' .and. .not. b%radius > 0.0_wp, 'body radius', 'must be > 0 ' &
+        // 'for a ' // dist // ' size_distribution' // in_b // gr(b%radius))
+      call rule(dist == 'uniform' .and. .not. b%radius_min > 0.0_wp, 'body radius_min', &
+        'must be > 0 for a uniform size_distribution' // in_b // gr(b%radius_min))
+      call rule(dist == 'uniform' .and. .not. b%radius_max > b%radius_min, 'body radius_max', &
+        'must be > radius_min = ' // real_text(b%radius_min) // ' for a uniform ' &
+        // 'size_distribution' // in_b // gr(b%radius_max))
+      call rule(dist == 'lognormal' .and. .not. b%radius_sigma > 0.0_wp, 'body radius_sigma', &
+        'must be > 0 for a lognormal size_distribution' // in_b // gr(b%radius_sigma))
+      call rule(dist == 'lognormal' .and. b%radius_min > 0.0_wp .and. b%radius_max > 0.0_wp &
+        .and. .not. b%radius_max > b%radius_min, 'body radius_max', 'must be > radius_min = ' &
+        // real_text(b%radius_min) // in_b // gr(b%radius_max))
+      rmax = b%radius
+      if (dist == 'uniform' .or. (dist == 'lognormal' .and. b%radius_max > 0.0_wp)) &
+        rmax = b%radius_max
+      call rule(any(2.0_wp * (rmax + b%gap) > b%hi(1:cfg%ndim) - b%lo(1:cfg%ndim)) .and. &
+        all(b%hi(1:cfg%ndim) > b%lo(1:cfg%ndim)), 'body radius', 'a sphere of the largest ' &
+        // 'radius ' // real_text(rmax) // ' with its gap does not fit in lo..hi' // in_b)
+      ! random sequential addition jams at about 0.547 of the area (2D), 0.38 of the volume
+      jam = merge(0.5_wp, merge(0.35_wp, 0.9_wp, cfg%ndim == 3), cfg%ndim == 2)
+      call rule(b%volume_fraction > jam, 'body volume_fraction', 'must be <= ' &
+        // real_text(jam) // in_b // ': spheres placed one by one jam near 0.55 of the area ' &
+        // '(2D), 0.38 of the volume (3D)' // gr(b%volume_fraction))
+    end subroutine check_generator
 
   end subroutine deck_check
 

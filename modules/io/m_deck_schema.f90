@@ -38,14 +38,16 @@ module m_deck_schema
     'llf']
   character(len=11), parameter :: conserve_names(4) = [character(len=11) :: 'mass_energy', &
     'mass', 'none', 'cut_cell']
-  character(len=10), parameter :: shape_names(4) = [character(len=10) :: 'box', 'sphere', &
-    'cylinder', 'half_space']
+  character(len=14), parameter :: shape_names(6) = [character(len=14) :: 'box', 'sphere', &
+    'cylinder', 'half_space', 'random_spheres', 'random_field']
+  character(len=9), parameter :: size_distribution_names(3) = [character(len=9) :: 'fixed', &
+    'uniform', 'lognormal']
 
   !> the table being built: its lines so far and the group they belong to
   type :: table_t
     character(len=8) :: g = ''
     integer :: n = 0
-    type(deck_var_t) :: v(96)
+    type(deck_var_t), allocatable :: v(:)   ! (grown by add: no limit on the lines)
   contains
     procedure :: add
   end type table_t
@@ -175,11 +177,11 @@ contains
     call t%add('material', b%material, "'copper'", "a material, 'void' or 'rigid'")
     call t%add('shape', b%shape, "'sphere'", 'shape', shape_names, .true.)
     call t%add('center', b%center, '0.5, 0.5, 0.0', 'centre; a point of a half_space (m)')
-    call t%add('radius', b%radius, '0.1', 'radius of a sphere or cylinder (m)')
+    call t%add('radius', b%radius, '0.1', 'radius of a sphere, cylinder; random_spheres (m)')
     call t%add('length', b%length, '0.2', 'length of a cylinder (m)')
     call t%add('axis', b%axis, '0.0, 0.0, 1.0', 'cylinder axis; outward normal of a half_space')
-    call t%add('lo', b%lo, '0.0, 0.0, 0.0', 'low corner of a box (m)')
-    call t%add('hi', b%hi, '0.5, 1.0, 1.0', 'high corner of a box (m)')
+    call t%add('lo', b%lo, '0.0, 0.0, 0.0', 'low corner of a box, or of a random_* (m)')
+    call t%add('hi', b%hi, '0.5, 1.0, 1.0', 'high corner of a box, or of a random_* (m)')
     call t%add('velocity', b%velocity, '1000.0, 0.0, 0.0', 'initial velocity (m/s)')
     call t%add('rho', b%rho, '1000.0', "initial density (unset: the material's rho0)")
     call t%add('p', b%p, '1.0e5', "initial pressure (unset: the material's p0)")
@@ -187,6 +189,24 @@ contains
     call t%add('amplitude', b%amplitude, '0.2', 'rho (or T if given) (1 + a sin(2 pi k.x))', &
       allowed='in (-1, 1) so that rho (1 + amplitude sin(2 pi k.x)) stays > 0')
     call t%add('wavevector', b%wavevector, '1.0, 0.0, 0.0', 'k of that perturbation (1/m)')
+    ! the scene generators (manual/scenes.md): shapes random_spheres and random_field
+    call t%add('seed', b%seed, '1', 'random_*: seed of the random numbers (any integer)')
+    call t%add('volume_fraction', b%volume_fraction, '0.2', &
+      'random_*: share of the box lo..hi it fills (area in 2D)', allowed='in [0, 1)')
+    call t%add('count', b%count, '100', 'random_spheres: how many (0: from volume_fraction)', &
+      allowed='>= 0')
+    call t%add('size_distribution', b%size_distribution, "'fixed'", &
+      'random_spheres: radius; uniform in radius_min..max; lognormal', size_distribution_names)
+    call t%add('radius_min', b%radius_min, '4.0e-6', 'random_spheres: smallest radius (m)', &
+      allowed='>= 0')
+    call t%add('radius_max', b%radius_max, '6.0e-6', 'random_spheres: largest radius (m)', &
+      allowed='>= 0')
+    call t%add('radius_sigma', b%radius_sigma, '0.2', 'random_spheres lognormal: sd of ln r', &
+      allowed='>= 0')
+    call t%add('gap', b%gap, '1.0e-6', 'random_spheres: least gap, to each other and the box (m)', &
+      allowed='>= 0')
+    call t%add('correlation_length', b%correlation_length, '5.0e-6', &
+      'random_field: l of its covariance exp(-r^2 / (2 l^2)) (m)', allowed='>= 0')
     t%g = 'output'
     call t%add('plot_dt', c%plot_dt, '1.0e-3', 'time between plots (s); 0: the final one', &
       allowed='>= 0 (0 = no plots by time)')
@@ -260,6 +280,8 @@ contains
     if (present(choices)) v%choices = joined(choices)
     if (present(empty_ok)) v%empty_ok = empty_ok
     if (present(allowed)) v%allowed = allowed
+    if (.not. allocated(t%v)) allocate(t%v(64))
+    if (t%n == size(t%v)) t%v = [t%v, t%v]
     t%n = t%n + 1
     t%v(t%n) = v
   end subroutine add

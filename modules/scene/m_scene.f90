@@ -4,17 +4,22 @@
 !> manual/interfaces.md), and whether a rigid body covers whole blocks (which are then not
 !> computed and act as exact rigid walls for their neighbours, m_boundary), and the motion of
 !> a moving rigid body, whose level set is its distance at the time of each stage; whether
-!> the boxes of a material tile the domain (m_deck_check: then it needs no rest state).
+!> the boxes of a material tile the domain (m_deck_check: then it needs no rest state). The
+!> generated shapes (random spheres, a random field: manual/scenes.md) are made once at
+!> set-up by scene_generate, on every rank alike, and are one body, so one level set, each.
 module m_scene
   use m_kinds, only: wp
   use m_config, only: body_t
+  use m_errors, only: stop_collective
+  use m_scene_generate, only: random_spheres, spheres_distance
+  use m_scene_field, only: random_field, field_distance
   use m_layout, only: layout_t, block_offset, block_extent
   use m_blocks, only: block_t
   use m_levelset_bodies, only: ls_set_t, ls_rigid
   implicit none
   private
   public :: inside_body, cell_centre, rigid_block_status, body_distance, rigid_bodies_move
-  public :: boxes_cover
+  public :: boxes_cover, scene_generate
 
 contains
 
@@ -86,14 +91,17 @@ contains
         sum((r - along * a)**2) <= body%radius**2
     case ('half_space')
       inside = dot_product(r, body%axis) <= 0.0_wp
+    case ('random_spheres', 'random_field')
+      inside = body_distance(body, ndim, x) <= 0.0_wp
     case default
       inside = .false.
     end select
   end function inside_body
 
   !> Signed distance from point x to the body's surface (negative inside; only the first ndim
-  !> coordinates count): exact for spheres, half spaces, boxes and finite cylinders, so the
-  !> level sets start as signed distances.
+  !> coordinates count): exact for spheres, half spaces, boxes, finite cylinders and random
+  !> spheres, so the level sets start as signed distances; a random field's is its grid's
+  !> distance interpolated, clipped by the box.
   pure real(wp) function body_distance(body, ndim, x) result(d)
     type(body_t), intent(in) :: body
     integer, intent(in) :: ndim
@@ -115,6 +123,10 @@ contains
       d = box_distance([norm2(r - along * a) - body%radius, abs(along) - 0.5_wp * body%length])
     case ('half_space')
       d = dot_product(r, body%axis) / norm2(body%axis)
+    case ('random_spheres')
+      d = spheres_distance(body%spheres, ndim, x)
+    case ('random_field')
+      d = field_distance(body%field, ndim, body%lo, body%hi, x)
     case default
       d = huge(1.0_wp)
     end select
@@ -126,6 +138,36 @@ contains
     real(wp), intent(in) :: side(:)
     d = norm2(max(side, 0.0_wp)) + min(maxval(side), 0.0_wp)
   end function box_distance
+
+  !> Make the generated shapes of the bodies (random spheres, a random field) from their
+  !> deck variables; every rank makes the same (the same arithmetic on the same seed, no
+  !> communication: manual/scenes.md). A scene that cannot be made stops every rank with
+  !> the body's name and what to change (deck: the deck file's name for the message).
+  subroutine scene_generate(bodies, ndim, deck)
+    type(body_t), intent(inout) :: bodies(:)
+    integer, intent(in) :: ndim
+    character(len=*), intent(in) :: deck
+    character(len=:), allocatable :: why
+    integer :: b
+    do b = 1, size(bodies)
+      associate (body => bodies(b))
+        select case (trim(body%shape))
+        case ('random_spheres')
+          call random_spheres(ndim, body%lo, body%hi, body%seed, body%volume_fraction, &
+            body%count, body%size_distribution, body%radius, body%radius_min, &
+            body%radius_max, body%radius_sigma, body%gap, body%spheres, &
+            body%generated_fraction, why)
+        case ('random_field')
+          call random_field(ndim, body%lo, body%hi, body%seed, body%correlation_length, &
+            body%volume_fraction, body%field, body%generated_fraction, why)
+        case default
+          cycle
+        end select
+        call stop_collective('ERROR ' // deck // " &body shape: '" // trim(body%shape) // &
+          "' in body '" // trim(body%name) // "': " // why, len(why) == 0)
+      end associate
+    end do
+  end subroutine scene_generate
 
   !> For block id: 0 when no cell centre lies in the rigid body, 2 when all do, 1 when only
   !> some do (a rigid body must cover whole blocks in this version).
