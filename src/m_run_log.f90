@@ -8,7 +8,8 @@ module m_run_log
   use m_kinds, only: wp, line_len
   use m_comm, only: comm_size, comm_min, comm_max, comm_backend_name
   use m_errors, only: log_line
-  use m_simulation, only: sim_t, mem_parts, mem_text
+  use m_simulation, only: sim_t
+  use m_memory, only: mem_parts, mem_text
   use m_run_report, only: run_facts_t, run_facts, run_json_write, thermal_reason, &
     interfaces_reason
   implicit none

@@ -7,7 +7,8 @@
 module m_run_report
   use, intrinsic :: iso_fortran_env, only: compiler_version, compiler_options
   use m_kinds, only: wp, i8, line_len
-  use m_simulation, only: sim_t, mem_parts
+  use m_simulation, only: sim_t
+  use m_memory, only: mem_parts
   use m_hotspot, only: hot_json
   use m_gfm, only: gfm_counts_t
   use m_comm, only: comm_sum, comm_min, comm_max, comm_size, comm_wtime, comm_is_root

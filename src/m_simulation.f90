@@ -3,12 +3,12 @@
 !> the scheme choices, the level-set bodies, the ghost-fluid and conservation-fix states,
 !> the step's counters, the work space, the memory estimate and the blocks' measured work
 !> (m_balance; m_rebalance moves blocks between ranks when it drifts). sim_setup turns a deck into a
-!> ready-to-run simulation: layout, rigid-obstacle blocks, the memory estimate (a deck that
+!> ready-to-run simulation: layout, rigid-obstacle blocks, the memory estimate (m_memory; a deck that
 !> does not fit the node is refused before anything is allocated), METIS partition,
 !> allocation and the initial state painted from the bodies (or read from a checkpoint by
 !> m_output).
 module m_simulation
-  use m_kinds, only: wp, i8, name_len
+  use m_kinds, only: wp, name_len
   use m_config, only: config_t, material_t, material_index, is_set
   use m_layout, only: layout_t, layout_init, block_offset, block_extent
   use m_blocks, only: block_t, blocks_allocate
@@ -29,21 +29,17 @@ module m_simulation
   use m_gfm, only: gf_t, gf_fit, probe_from_name
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid
   use m_yield, only: strength_t, strength_from_material, strength_none
-  use m_timers, only: timers_t, memory_kb, node_memory_kb
-  use m_comm, only: comm_rank, comm_size, comm_node_ranks, comm_any, comm_max
+  use m_timers, only: timers_t
+  use m_memory, only: memory_t, memory_estimate, memory_check
+  use m_comm, only: comm_rank, comm_any, comm_max
   use m_errors, only: stop_collective
-  use m_text, only: base_name, int_text
+  use m_text, only: base_name
   use m_hotspot, only: hot_t, hot_setup
   use m_reaction, only: reaction_from_name, reaction_none
   use m_conduction, only: conduction_rate
   implicit none
   private
-  public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, sim_rate, mem_parts, &
-    mem_text
-
-  !> the parts of the memory estimate (sim_memory_estimate), in the order of sim_t%mem
-  character(len=*), parameter :: mem_parts(6) = [character(len=10) :: 'state', 'halos', &
-    'level_sets', 'output', 'work', 'layout']
+  public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, sim_rate
 
   !> Depth of the ghost band in cells: the reach (3) of the ENO3 and WENO5 stencils of a real
   !> cell next to the surface, and a half cell for oblique surfaces.
@@ -66,15 +62,6 @@ module m_simulation
     real(wp), allocatable :: qsave(:, :, :, :)   !< a block's stage input (interior)
     logical, allocatable :: trouble(:, :, :)     !< its cells left inadmissible
   end type work_t
-
-  !> The memory estimate of one rank in bytes, part by part (mem_parts), made before the
-  !> grid is allocated; the resident memory then; what the node has, and its ranks.
-  type :: memory_t
-    real(wp) :: parts(size(mem_parts)) = 0.0_wp
-    real(wp) :: base = 0.0_wp
-    real(wp) :: node_available = 0.0_wp
-    integer :: node_ranks = 1
-  end type memory_t
 
   !> The simulation in parts; each routine takes the parts it uses.
   type :: sim_t
@@ -150,8 +137,8 @@ contains
     call heat_effects()
     sim%ph%ils = sim%ph%nphase * sim%ph%nflow
     sim%ph%nvar = sim%ph%ils + sim%ls%n
-    call sim_memory_estimate(sim)
-    call memory_check(sim)
+    call memory_estimate(sim%lay, sim%ph%nvar, sim%ph%nflow, sim%ph%nphase, sim%ls%n, sim%mem)
+    call memory_check(sim%mem, sim%cfg%deck_file)
     work = predicted_work(sim)
     call partition_blocks(sim%lay, work)
     call blocks_allocate(sim%lay, comm_rank(), sim%ph%nvar, sim%blocks)
@@ -486,81 +473,6 @@ contains
     sinc = 1.0_wp
     if (abs(z) > 1.0e-8_wp) sinc = sin(z) / z
   end function sinc
-
-  !> What one rank will hold once the grid is allocated, in bytes (manual/user-guide.md,
-  !> "Memory"): the blocks' state with halo, start-of-step copy and right-hand side; the
-  !> packed halo messages to other ranks (send and receive) of a compact piece of blocks;
-  !> the copy of the level sets that reinitialisation keeps; one field of every block that
-  !> plot files and checkpoints gather; the per-block work arrays of the fluxes and the
-  !> ghost fill; the whole-grid block tables and the METIS graph. A rank is taken to hold
-  !> its share of the active blocks, rounded up (METIS balances the cells).
-  subroutine sim_memory_estimate(sim)
-    type(sim_t), intent(inout) :: sim
-    real(wp), parameter :: b8 = 8.0_wp
-    real(wp) :: nb, ni, np, nd, halo_cells
-    logical :: leader
-    nd = real(sim%lay%ndim, wp)
-    nb = real(ceiling(real(count(sim%lay%active), wp) / comm_size()), wp)
-    ni = product(real(sim%lay%nmax, wp))
-    np = product(real(sim%lay%nmax + 2 * sim%lay%ng, wp))
-    sim%mem%parts(1) = b8 * nb * sim%ph%nvar * (np + 2.0_wp * ni)
-    ! the blocks on the surface of a compact piece of nb blocks, one face halo each
-    halo_cells = 0.0_wp
-    if (comm_size() > 1) halo_cells = min(nb, 2.0_wp * nd * nb**((nd - 1.0_wp) / nd)) &
-      * (np - ni) / (2.0_wp * nd)
-    sim%mem%parts(2) = 2.0_wp * b8 * sim%ph%nvar * halo_cells
-    sim%mem%parts(3) = b8 * sim%ls%n * np * nb
-    sim%mem%parts(4) = b8 * ni * nb
-    sim%mem%parts(5) = b8 * (np * (sim%ph%nflow * (1 + sim%ph%nphase) + 2 * sim%ph%nphase + 3) &
-      + ni * (sim%ph%nvar + 2))
-    ! active and owner, and METIS's graph (offsets, 6 neighbours and weights, vertex
-    ! weights, parts, and its own copies) of every block of the grid
-    sim%mem%parts(6) = 100.0_wp * sim%lay%nblocks
-    sim%mem%base = 1024.0_wp * memory_kb('VmRSS')
-    call comm_node_ranks(sim%mem%node_ranks, leader)
-    sim%mem%node_available = 1024.0_wp * node_memory_kb('MemAvailable')
-    if (.not. sim%mem%node_available > 0.0_wp) &
-      sim%mem%node_available = 1024.0_wp * node_memory_kb('MemTotal')
-  end subroutine sim_memory_estimate
-
-  !> Refuse, on every rank, a run whose ranks on one node would need more than the node has
-  !> available (when the node says: /proc/meminfo).
-  subroutine memory_check(sim)
-    type(sim_t), intent(in) :: sim
-    real(wp) :: need
-    need = sim%mem%node_ranks * sum(sim%mem%parts)
-    call stop_collective('ERROR ' // trim(base_name(sim%cfg%deck_file)) // ' &domain cells: ' &
-      // 'the run needs an estimated ' // mem_text(need) // ' on this node (' &
-      // int_text(sim%mem%node_ranks) &
-      // trim(merge(' rank  ', ' ranks ', sim%mem%node_ranks == 1)) &
-      // ' of ' // mem_text(sum(sim%mem%parts)) // ' each) ' &
-      // 'but the node has ' // mem_text(sim%mem%node_available) // ' available ' &
-      // '(/proc/meminfo MemAvailable): use fewer cells, or more nodes', &
-      .not. (sim%mem%node_available > 0.0_wp .and. need > sim%mem%node_available))
-  end subroutine memory_check
-
-  !> bytes with about 3 digits and a unit: '9766 GiB', '23.4 GiB', '512 MiB', '1.25 MiB'
-  function mem_text(bytes) result(r)
-    real(wp), intent(in) :: bytes
-    character(len=:), allocatable :: r
-    character(len=32) :: buf
-    character(len=4) :: unit
-    real(wp) :: x
-    x = bytes / 1024.0_wp**3
-    unit = ' GiB'
-    if (x < 1.0_wp) then
-      x = bytes / 1024.0_wp**2
-      unit = ' MiB'
-    end if
-    if (x >= 100.0_wp) then
-      write(buf, '(i0)') nint(x, i8)
-    else if (x >= 10.0_wp) then
-      write(buf, '(f0.1)') x
-    else
-      write(buf, '(f4.2)') x
-    end if
-    r = trim(adjustl(buf)) // unit
-  end function mem_text
 
   !> The global signal rate (max over ranks) for the CFL step (dt = cfl / rate), and whether
   !> every cell of every rank is admissible.
