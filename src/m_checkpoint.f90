@@ -6,8 +6,8 @@ module m_checkpoint
   use m_kinds, only: wp, name_len
   use m_simulation, only: sim_t
   use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
-    h5_read_attr, h5_write_field, h5_read_field, h5_write_text, h5_has_attr, h5_is_hdf5, &
-    h5_exists
+    h5_read_attr, h5_write_field, h5_read_field, h5_read_field_halo, h5_write_text, &
+    h5_has_attr, h5_is_hdf5, h5_exists
   use m_errors, only: stop_collective, log_line
   use m_text, only: base_name, int_text
   use m_output, only: step_file_name
@@ -19,6 +19,8 @@ module m_checkpoint
   !> the version of the checkpoint layout this code writes and reads; a checkpoint without
   !> the attribute was written before it existed (version 0, read the same way)
   integer, parameter :: checkpoint_version = 1
+  !> the cut-cell update's fractions at the step's end (m_gfm_cut alpha_n)
+  character(len=*), parameter :: fractions_name = '/cut/alpha_n'
 
 contains
 
@@ -89,6 +91,14 @@ contains
         end do
         call h5_write_field(f, trim(content_names(m)), sim%lay, ids, data)
       end do
+      ! the fractions the states were formed at (the void's level set has followed the
+      ! content since: cut_follow), which the next step's exchange of filled cells compares
+      ! with (cut_donate)
+      do b = 1, size(sim%blocks)
+        n = sim%blocks(b)%n
+        data(1:n(1), 1:n(2), 1:n(3), b) = sim%cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b)
+      end do
+      call h5_write_field(f, fractions_name, sim%lay, ids, data)
     end if
     call h5_write_text(f, '/deck', deck_text)
     call h5_close(f)
@@ -223,6 +233,7 @@ contains
         // 'the restart on')
     end if
     sim%cut%restored = .false.
+    sim%cut%restored_fractions = .false.
     if (sim%cut%on) then
       if (h5_exists(f, trim(content_names(1)))) then
         call h5_read_attr(f, 'cut_stranded', sim%cut%stranded)
@@ -240,6 +251,7 @@ contains
           end do
         end do
         sim%cut%restored = .true.
+        if (h5_exists(f, fractions_name)) call restore_fractions()
       else
         call log_line('restart: ' // trim(path) // ' holds no cut-cell content (written ' // &
           'without conserve = ''cut_cell''): it is taken from the states')
@@ -247,6 +259,31 @@ contains
     end if
     call h5_close(f)
     sim%clk%restart_step = sim%clk%step
+
+  contains
+
+    !> The fractions at the checkpoint's step end: each block's own cells, and those of its
+    !> neighbours its exchange of filled cells looks at (e cells into the halo, read from the
+    !> file rather than exchanged); beyond the domain's sides -1, which the first step
+    !> replaces by the fractions of the level set there (m_gfm_stage).
+    subroutine restore_fractions()
+      real(wp), allocatable :: ext(:, :, :, :)
+      integer :: e(3)
+      call h5_read_field(f, fractions_name, sim%lay, ids, data)
+      e = max(sim%lay%ng - 1, 0)
+      allocate(ext(1-e(1):sim%lay%nmax(1)+e(1), 1-e(2):sim%lay%nmax(2)+e(2), &
+        1-e(3):sim%lay%nmax(3)+e(3), size(sim%blocks)))
+      ext = -1.0_wp
+      call h5_read_field_halo(f, fractions_name, sim%lay, ids, e, ext)
+      do b = 1, size(sim%blocks)
+        n = sim%blocks(b)%n
+        sim%cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = data(1:n(1), 1:n(2), 1:n(3), b)
+        if (allocated(sim%cut%ext_n(b)%a)) deallocate(sim%cut%ext_n(b)%a)
+        allocate(sim%cut%ext_n(b)%a(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
+        sim%cut%ext_n(b)%a = ext(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3), b)
+      end do
+      sim%cut%restored_fractions = .true.
+    end subroutine restore_fractions
   end subroutine output_restart
 
 end module m_checkpoint

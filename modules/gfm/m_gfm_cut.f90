@@ -34,7 +34,7 @@ module m_gfm_cut
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void
   use m_levelset_cut, only: levelset_cut
   use m_eos, only: eos_pressure, eos_sound_speed2
-  use m_gfm_cut_cells, only: full, full_density, group_roots, on_open
+  use m_gfm_cut_cells, only: full, full_density, group_roots, ring, on_open
   use m_gfm_cut_close, only: relax_closing
   implicit none
   private
@@ -51,6 +51,7 @@ module m_gfm_cut
     logical :: on = .false.
     logical :: started = .false.                  !< c0 holds the content (the first step on)
     logical :: restored = .false.                 !< c0 was read from a checkpoint
+    logical :: restored_fractions = .false.       !< alpha_n and ext_n were too
     character(len=256) :: reason = ''
     integer :: p = 0                              !< the cut phase
     real(wp) :: small = 0.5_wp                    !< cells below this fraction are mixed
@@ -410,38 +411,35 @@ contains
       on_open_side = on_open(blk%lay, blk%offset, open_side, c0)
     end function on_open_side
 
-    !> whether some face neighbour of cell c0 has joined its group
+    !> whether some neighbour of cell c0 has joined its group
     logical function has_members(c0) result(yes)
       integer, intent(in) :: c0(3)
-      integer :: nb(3, 2 * blk%lay%ndim), l
+      integer :: nb(3, 26), l, nl
       yes = .false.
-      nb = faces_of(c0)
-      do l = 1, size(nb, 2)
+      call ring(blk%lay%ndim, c0, nb, nl)
+      do l = 1, nl
         ! (only a small cell joins a group)
         if (.not. filled(nb(1, l) + e(1), nb(2, l) + e(2), nb(3, l) + e(3)) < cut%small) cycle
         if (all(root(:, nb(1, l), nb(2, l), nb(3, l)) == c0)) yes = .true.
       end do
     end function has_members
 
-    !> The content (times volume) and wet volume of the group of root c0: c0 and the face
-    !> neighbours that joined it.
+    !> The content (times volume) and wet volume of the group of root c0: c0 and the
+    !> neighbours that joined it (faces first, then edges and corners).
     subroutine group_sum(c0, sc, sa, least)
       integer, intent(in) :: c0(3)
       real(wp), intent(out) :: sc(:), sa
       real(wp), intent(out) :: least   !< the smallest mass content of a member
-      integer :: d, s, nb(3)
+      integer :: nb(3, 26), l, nl
       sc = cq(c0(1), c0(2), c0(3), :) * vol(c0(1))
       sa = alpha(c0(1), c0(2), c0(3)) * vol(c0(1))
       least = cq(c0(1), c0(2), c0(3), i_rho)
-      do d = 1, blk%lay%ndim
-        do s = -1, 1, 2
-          nb = c0
-          nb(d) = nb(d) + s
-          if (.not. all(root(:, nb(1), nb(2), nb(3)) == c0)) cycle
-          sc = sc + cq(nb(1), nb(2), nb(3), :) * vol(nb(1))
-          sa = sa + alpha(nb(1), nb(2), nb(3)) * vol(nb(1))
-          least = min(least, cq(nb(1), nb(2), nb(3), i_rho))
-        end do
+      call ring(blk%lay%ndim, c0, nb, nl)
+      do l = 1, nl
+        if (.not. all(root(:, nb(1, l), nb(2, l), nb(3, l)) == c0)) cycle
+        sc = sc + cq(nb(1, l), nb(2, l), nb(3, l), :) * vol(nb(1, l))
+        sa = sa + alpha(nb(1, l), nb(2, l), nb(3, l)) * vol(nb(1, l))
+        least = min(least, cq(nb(1, l), nb(2, l), nb(3, l), i_rho))
       end do
     end subroutine group_sum
 

@@ -11,7 +11,8 @@ module m_gfm_cut_cells
   use m_state, only: i_rho
   implicit none
   private
-  public :: full, full_density, group_roots, on_open, in_domain, largest_neighbour, cut_donate
+  public :: full, full_density, group_roots, ring, on_open, in_domain, largest_neighbour
+  public :: cut_donate
 
   !> a cell's fraction from which it counts as full of its phase
   real(wp), parameter :: full = 1.0_wp - 1.0e-12_wp
@@ -57,8 +58,12 @@ contains
   !> The root of each cell's mixing group, over the block and two cells into its halo:
   !> a cell with alpha >= small, or empty (alpha = 0), is its own root; a small cell joins
   !> its face neighbour of largest fraction (the first in -x, +x, -y, +y, -z, +z of equal
-  !> ones) when that one is not small, else it stays its own root. Cells beyond the domain's
-  !> sides take no part.
+  !> ones) when that one is not small, else its edge or corner neighbour of largest
+  !> fraction that is not small (a cell in the crook of a surface, whose face neighbours are
+  !> small cells of another group: where two voids' remnants meet), else it stays its own
+  !> root. A group is thus a root and members within one cell of it (any direction), so
+  !> that every block forms it alike from two cells of halo. Cells beyond the domain's sides
+  !> take no part.
   subroutine group_roots(lay, offset, n, e, alpha_e, small, root)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: offset(3), n(3), e(3)
@@ -78,11 +83,66 @@ contains
           if (.not. in_domain(lay, offset, [i, j, k])) cycle
           best = largest_neighbour(lay, offset, n, e, alpha_e, [i, j, k])
           if (best(1) == huge(1)) cycle
-          if (alpha_e(best(1), best(2), best(3)) >= small) root(:, i, j, k) = best
+          if (alpha_e(best(1), best(2), best(3)) >= small) then
+            root(:, i, j, k) = best
+          else
+            best = largest_corner([i, j, k])
+            if (best(1) /= huge(1)) root(:, i, j, k) = best
+          end if
         end do
       end do
     end do
+
+  contains
+
+    !> the edge or corner neighbour of c (inside the domain and alpha_e) with the largest
+    !> fraction >= small, the first in the order of ring of equal ones; huge(1) when none
+    function largest_corner(c) result(best)
+      integer, intent(in) :: c(3)
+      integer :: best(3), nb(3, 26), l, nl
+      real(wp) :: a, top
+      best = huge(1)
+      top = -1.0_wp
+      call ring(lay%ndim, c, nb, nl)
+      do l = 2 * lay%ndim + 1, nl
+        if (any(nb(:, l) < 1 - e .or. nb(:, l) > n + e)) cycle
+        if (.not. in_domain(lay, offset, nb(:, l))) cycle
+        a = alpha_e(nb(1, l), nb(2, l), nb(3, l))
+        if (a >= small .and. a > top) then
+          top = a
+          best = nb(:, l)
+        end if
+      end do
+    end function largest_corner
   end subroutine group_roots
+
+  !> The neighbours of cell c within one cell in ndim directions: the 2 ndim face
+  !> neighbours first (-x, +x, -y, +y, -z, +z), then the edge and corner ones (x fastest);
+  !> nl of them (26 in 3D).
+  pure subroutine ring(ndim, c, nb, nl)
+    integer, intent(in) :: ndim, c(3)
+    integer, intent(out) :: nb(3, 26), nl
+    integer :: d, s, i, j, k, w(3)
+    nl = 0
+    do d = 1, ndim
+      do s = -1, 1, 2
+        nl = nl + 1
+        nb(:, nl) = c
+        nb(d, nl) = c(d) + s
+      end do
+    end do
+    w = 0
+    w(1:ndim) = 1
+    do k = -w(3), w(3)
+      do j = -w(2), w(2)
+        do i = -w(1), w(1)
+          if (abs(i) + abs(j) + abs(k) < 2) cycle
+          nl = nl + 1
+          nb(:, nl) = c + [i, j, k]
+        end do
+      end do
+    end do
+  end subroutine ring
 
   !> Whether cell c (block coordinates) is a first or last cell along an outflow side.
   pure logical function on_open(lay, offset, open_side, c) result(yes)

@@ -265,9 +265,14 @@ contains
           end do
         end if
         if (.not. cut%started) then
-          ! (a restart's content came from the checkpoint; the fractions from the level set)
-          cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
-          cut%ext_n(b)%a = cut%ext(b)%a
+          if (cut%restored_fractions) then
+            ! a restart's fractions came from the checkpoint (those of the level set before
+            ! the step end's follow); beyond the domain's sides the level set's
+            where (cut%ext_n(b)%a < 0.0_wp) cut%ext_n(b)%a = cut%ext(b)%a
+          else
+            cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
+            cut%ext_n(b)%a = cut%ext(b)%a
+          end if
         end if
         if (states) call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a)
       end associate
@@ -285,6 +290,7 @@ contains
         if (final) call cut_strand(cut, b, blocks(b))
         if (final) cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
         if (final .and. allocated(cut%ext_n(b)%a)) cut%ext_n(b)%a = 0.0_wp
+        if (final) cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = 0.0_wp
         cycle
       end if
       associate (blk => blocks(b), w => gf%work, f => cut%faces(b))

@@ -33,7 +33,7 @@ module m_hdf5_io
   implicit none
   private
   public :: h5_file_t, h5_init, h5_finalize, h5_create, h5_open_read, h5_close
-  public :: h5_write_attr, h5_read_attr, h5_write_field, h5_read_field
+  public :: h5_write_attr, h5_read_attr, h5_write_field, h5_read_field, h5_read_field_halo
   public :: h5_write_text, h5_read_text, h5_exists, h5_has_attr, h5_is_hdf5
 
 contains
@@ -132,6 +132,45 @@ contains
     data = 0.0_wp
     call move_blocks(f, dset_path, dset, filespace, lay, ids, err, rdata=data)
   end subroutine h5_read_field
+
+  !> Read, for each of this rank's blocks, its interior cells and e cells beyond them on
+  !> every side (as far as the domain reaches) from dset_path into data, whose cell
+  !> (1 - e(d) .. nmax(d) + e(d)) is the block's; what lies beyond the domain's sides is left
+  !> as the caller set it. For values a block needs from its neighbours' cells as they were
+  !> written (the cut-cell update's fractions at the step's end), with no halo exchange.
+  subroutine h5_read_field_halo(f, dset_path, lay, ids, e, data)
+    type(h5_file_t), intent(in) :: f
+    character(len=*), intent(in) :: dset_path
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: ids(:), e(3)
+    real(wp), intent(inout), contiguous :: data(:, :, :, :)
+    integer(hid_t) :: dset, filespace, memspace
+    integer(hsize_t) :: bdims(3), start(3), count(3), mstart(3)
+    integer :: err, k, lo(3), hi(3)
+    call require_open(f, 'h5_read_field_halo')
+    dset = open_dataset(f, dset_path)
+    call h5dget_space_f(dset, filespace, err)
+    bdims = int(lay%nmax + 2 * e, hsize_t)
+    call h5screate_simple_f(3, bdims, memspace, err)
+    do k = 1, size(ids)
+      if (.not. lay%active(ids(k))) cycle
+      ! the block's cells and e beyond, clipped to the domain (0-based global indices)
+      lo = max(block_offset(lay, ids(k)) - e, 0)
+      hi = min(block_offset(lay, ids(k)) + block_extent(lay, ids(k)) + e, lay%cells) - 1
+      start = int(lo, hsize_t)
+      count = int(hi - lo + 1, hsize_t)
+      mstart = int(lo - (block_offset(lay, ids(k)) - e), hsize_t)
+      call h5sselect_hyperslab_f(filespace, H5S_SELECT_SET_F, start, count, err)
+      call h5sselect_hyperslab_f(memspace, H5S_SELECT_SET_F, mstart, count, err)
+      call h5dread_f(dset, H5T_NATIVE_DOUBLE, data(:, :, :, k), bdims, err, &
+        mem_space_id=memspace, file_space_id=filespace)
+      if (err < 0) call fatal(here, 'cannot read block ' // int_text(ids(k)) // ' of ' // &
+        dset_path // ' from ' // f%path // ': the file may be damaged')
+    end do
+    call h5sclose_f(memspace, err)
+    call h5sclose_f(filespace, err)
+    call h5dclose_f(dset, err)
+  end subroutine h5_read_field_halo
 
   !> Write the blocks' cells from wdata or read them into rdata (one of them present,
   !> shaped as h5_write_field has it) between dataset dset, of dataspace filespace, and
