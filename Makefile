@@ -42,6 +42,7 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_text core/m_signals
   core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_balance \
   parallel/m_halo \
   eos/m_eos numerics/m_reaction numerics/m_phases numerics/m_conduction grid/m_boundary numerics/m_reconstruct \
+  numerics/m_characteristic \
   levelset/m_levelset_derivatives levelset/m_levelset_advect levelset/m_levelset_reinit \
   levelset/m_levelset_geometry levelset/m_levelset_bodies levelset/m_levelset_motion \
   levelset/m_levelset_cut scene/m_scene_generate scene/m_scene_field scene/m_scene numerics/m_flux numerics/m_elastoplastic \
@@ -65,7 +66,7 @@ SRC := $(subst modules/parallel/m_comm.f90,modules/parallel/m_comm_mpi.f90 \
   modules/parallel/m_comm.f90,$(SRC))
 REL_OBJ := $(patsubst %.f90,build/rel/%.o,$(SRC))
 CHK_OBJ := $(patsubst %.f90,build/chk/%.o,$(SRC))
-UNIT := test_eos test_reconstruct test_flux test_halo test_hdf5 test_strength test_levelset \
+UNIT := test_eos test_reconstruct test_characteristic test_flux test_halo test_hdf5 test_strength test_levelset \
   test_gfm test_euler test_boundary test_partition test_levelset_cut test_hotspot test_reaction test_scene
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 

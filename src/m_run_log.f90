@@ -40,8 +40,9 @@ contains
     write(line, '(a,i0,a,i0,a,i0)') 'ranks: ', comm_size(), ' (' // comm_backend_name // &
       ' build); blocks per rank: min ', comm_min(nb), ', max ', comm_max(nb)
     call log_line(line)
-    write(line, '(a,a,a,a,a,i0,a,f5.3)') 'numerics: scheme ', trim(s%cfg%scheme), ', flux ', &
-      trim(s%cfg%flux), ', rk_order ', s%cfg%rk_order, ', cfl ', s%cfg%cfl
+    write(line, '(a,a,a,a,a,a,a,i0,a,f5.3)') 'numerics: scheme ', trim(s%cfg%scheme), &
+      ' (', trim(s%cfg%variables), ' variables), flux ', trim(s%cfg%flux), ', rk_order ', &
+      s%cfg%rk_order, ', cfl ', s%cfg%cfl
     call log_line(line)
     call log_line('numerics: ' // trim(s%cfg%numerics_note))
     if (s%ph%has_strength) call log_line('numerics: flux of eps_p and w_c ' // &

@@ -256,6 +256,7 @@ contains
     call json_close(js)
     call json_object(js, 'numerics')
     call json_put(js, 'scheme', s%cfg%scheme)
+    call json_put(js, 'variables', s%cfg%variables)
     call json_put(js, 'flux', s%cfg%flux)
     call json_put(js, 'rk_order', s%cfg%rk_order)
     call json_put(js, 'cfl', s%cfg%cfl)

@@ -23,6 +23,7 @@ module m_simulation
   use m_gfm_conserve, only: fix_t, fix_setup
   use m_gfm_cut, only: cut_t, cut_setup
   use m_reconstruct, only: scheme_from_name
+  use m_characteristic, only: variables_from_name
   use m_flux, only: flux_from_name, scalar_flux_from_name
   use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status, scene_generate
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void, ls_rigid, ls_region
@@ -172,6 +173,7 @@ contains
     end if
     call hot_start(sim)
     sim%num%scheme = scheme_from_name(cfg%scheme)
+    sim%num%variables = variables_from_name(cfg%variables)
     sim%num%flux = flux_from_name(cfg%flux)
     sim%num%scalar_flux = scalar_flux_from_name(cfg%scalar_flux)
     sim%num%surface_llf = cfg%surface_flux == 'llf'

@@ -18,6 +18,7 @@ module m_deck_schema
   use m_deck_parse, only: deck_var_t
   use m_boundary, only: bc_names
   use m_reconstruct, only: scheme_names
+  use m_characteristic, only: variables_names
   use m_flux, only: flux_names, scalar_flux_names
   use m_gfm, only: probe_names
   use m_eos, only: eos_names
@@ -102,6 +103,8 @@ contains
     t%g = 'numerics'
     call t%add('scheme', c%scheme, "'eno3'", 'reconstruction (empty: m_numerics_defaults)', &
       scheme_names, .true.)
+    call t%add('variables', c%variables, "'characteristic'", 'reconstructed variables', &
+      variables_names)
     call t%add('flux', c%flux, "'hllc'", 'flux of the Euler equations (empty: chosen)', &
       flux_names, .true.)
     call t%add('scalar_flux', c%scalar_flux, "'upwind'", 'solids: flux of rho eps_p, rho w_c', &

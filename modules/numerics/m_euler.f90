@@ -1,11 +1,11 @@
 !> Right-hand side of the Euler equations on one block (manual/theory.md eq. 1 and 3):
-!> L(U) = -sum_d dF_d/dx_d + S, dimension by dimension. Primitive variables
-!> (rho, u, v, w, p) are reconstructed on each pencil (m_reconstruct), face states that are
-!> not admissible (rho <= 0 or c^2 <= 0) fall back to the first-order cell values and are
-!> counted, the outer state of a face on a reflecting side is set to the mirror of the inner
-!> one, and the face flux (m_flux) is differenced. In axisymmetric geometry (x = r,
-!> y = z) the radial fluxes are differenced in r-weighted (conservative) form and the hoop
-!> pressure p / r is added to the radial momentum.
+!> L(U) = -sum_d dF_d/dx_d + S, dimension by dimension. Primitive (rho, u, v, w, p) or
+!> characteristic variables are reconstructed on each pencil (m_characteristic), face
+!> states that are not admissible (rho <= 0 or c^2 <= 0) fall back to the first-order cell
+!> values and are counted, the outer state of a face on a reflecting side is set to the
+!> mirror of the inner one, and the face flux (m_flux) is differenced. In axisymmetric
+!> geometry (x = r, y = z) the radial fluxes are differenced in r-weighted (conservative)
+!> form and the hoop pressure p / r is added to the radial momentum.
 !> With reaction (m_reaction) the last variable of a phase is rho lambda, after the Euler or
 !> the solid variables: 6 or 14 variables instead of 5 or 13. It is carried by the mass flux
 !> with lambda upwinded and bounded (eq. 8.6), like eps_p and w_c.
@@ -14,7 +14,8 @@
 module m_euler
   use m_kinds, only: wp
   use m_eos, only: eos_t, eos_sound_speed2, eos_energy
-  use m_reconstruct, only: reconstruct_faces
+  use m_characteristic, only: characteristic_work_t, characteristic_work_init, &
+    reconstruct_pencils
   use m_flux, only: face_flux, flux_llf_solid, scalar_flux_upwind
   use m_yield, only: strength_t
   use m_elastoplastic, only: primitive_row, stress_rates
@@ -28,6 +29,7 @@ module m_euler
   !> The scheme choices of the right-hand side (m_numerics_defaults resolves the deck's)
   type :: numerics_t
     integer :: scheme = 3                 !< reconstruction (m_reconstruct)
+    integer :: variables = 1              !< reconstructed variables (m_characteristic)
     integer :: flux = 1                   !< face flux (m_flux)
     integer :: scalar_flux = 1            !< flux of rho eps_p, rho w_c (m_flux)
     !> surface faces keep the LLF flux of S, eps_p and w_c (&numerics surface_flux = 'llf')
@@ -47,6 +49,7 @@ module m_euler
     integer, allocatable :: surf(:)                !< faces on a surface (nb, 0:n; m_flux)
     logical, allocatable :: low(:)                 !< faces forced to first order (nb, 0:n)
     logical, allocatable :: lowb(:)                !< faces with eps_p, w_c at first order
+    type(characteristic_work_t) :: chw             !< workspace of m_characteristic
     !> what the last euler_rhs let in through the domain's sides into the real cells: the
     !> rates of mass and total energy (kg/s, W; 2 pi r weighted in axisymmetry), for the
     !> conservation fix of the ghost-fluid method (m_gfm_conserve)
@@ -90,6 +93,7 @@ contains
     allocate(work%up(nbmax * (nmax + 1)), work%low(nbmax * (nmax + 1)))
     allocate(work%lowb(nbmax * (nmax + 1)))
     allocate(work%surf(nbmax * (nmax + 1)))
+    call characteristic_work_init(nbmax * (nmax + 1), nv, work%chw)
   end subroutine euler_work_init
 
   !> rhs = L(q) over the interior of one block; nfallback counts faces that fell back to
@@ -172,13 +176,13 @@ contains
         call low_faces(d, c, nb, n, work%low)
         if (present(cut) .and. ns > n_euler) then
           call partial_faces(d, c, nb, n, work%lowb)
-          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, ns, wall(:, d), &
-            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
-            work%er, work%cl, work%cr, work%f, nfallback, failed, work%lowb)
+          call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, wall(:, d), vwall(:, d), &
+            work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
+            work%cl, work%cr, work%f, work%chw, nfallback, failed, work%lowb)
         else
-          call faces_and_fluxes(eos, st%g, num%scheme, num%flux, nb, n, g, nv, ns, wall(:, d), &
-            vwall(:, d), work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, &
-            work%er, work%cl, work%cr, work%f, nfallback, failed)
+          call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, wall(:, d), vwall(:, d), &
+            work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
+            work%cl, work%cr, work%f, work%chw, nfallback, failed)
         end if
         if (failed) return
         if (present(cut)) call wet_faces(d, c, nb, n, work%f)
@@ -446,12 +450,13 @@ contains
   !> Face states and fluxes of a bundle of nb pencils of n cells: reconstruct, test
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
-  subroutine faces_and_fluxes(eos, shear, scheme, flux_kind, nb, n, g, nv, ns, wall, vwall, up, &
-      surf, low, pw, wl, wr, el, er, cl, cr, f, nfallback, failed, low_bounded)
+  subroutine faces_and_fluxes(eos, shear, num, nb, n, g, nv, ns, wall, vwall, up, surf, low, &
+      pw, wl, wr, el, er, cl, cr, f, chw, nfallback, failed, low_bounded)
     type(eos_t), intent(in) :: eos
     real(wp), intent(in) :: shear
+    type(numerics_t), intent(in) :: num
     !> nv variables: ns of the Euler (5) or solid (13) equations, then rho lambda if nv > ns
-    integer, intent(in) :: scheme, flux_kind, nb, n, g, nv, ns
+    integer, intent(in) :: nb, n, g, nv, ns
     logical, intent(in) :: wall(2)
     logical, intent(in) :: up(nb, 0:n)    !< faces whose scalars take the upwind flux
     integer, intent(in) :: surf(nb, 0:n)  !< faces on a body's surface (m_flux)
@@ -460,6 +465,7 @@ contains
     real(wp), intent(in) :: pw(nb, 1-g:n+g, nv)
     real(wp), intent(out) :: wl(nb, 0:n, nv), wr(nb, 0:n, nv), el(nb, 0:n), er(nb, 0:n)
     real(wp), intent(out) :: cl(nb, 0:n), cr(nb, 0:n), f(nb, 0:n, nv)
+    type(characteristic_work_t), intent(inout) :: chw
     integer, intent(inout) :: nfallback
     logical, intent(inout) :: failed
     !> faces whose eps_p and w_c take the cells' values (beside a cut cell, m_gfm_cut)
@@ -469,7 +475,8 @@ contains
     ! eps_p, w_c and lambda (pencil places i_epsp .. nv, or lambda alone after a gas) keep face
     ! values within their neighbours' range, so that their upwind transport stays within it
     ! (m_reconstruct's bound_faces)
-    call reconstruct_faces(scheme, nb, n, g, nv, pw, wl, wr, bounded_from=min(i_epsp, ns + 1))
+    call reconstruct_pencils(num%scheme, num%variables, eos, ns > n_euler, shear, nb, n, g, nv, &
+      pw, wl, wr, min(i_epsp, ns + 1), chw)
     if (any(low)) then
       do i = 0, n
         do b = 1, nb
@@ -534,7 +541,7 @@ contains
     if (ns > n_euler) then
       call flux_llf_solid(nf, ns, up, wl, wr, el, er, cl, cr, f, surf)
     else
-      call face_flux(flux_kind, nf, wl, wr, el, er, cl, cr, f)
+      call face_flux(num%flux, nf, wl, wr, el, er, cl, cr, f)
     end if
     ! rho lambda: the mass flux times the upwind lambda (at a surface, the real cell's)
     if (nv > ns) then

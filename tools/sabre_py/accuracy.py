@@ -5,6 +5,8 @@ Used by tools/accuracy. Error measures, against exact solutions where there is o
 - Riemann families (sod, toro_*): L1 of rho = mean over cells |rho - rho_exact| at the end
   time, rho_exact from tools/sabre_py/riemann.py at the cell centres.
 - smooth_wave: L1 of rho against the exact cell average of 1 + 0.2 sin(2 pi (x - t)).
+- copper_impact_2500: L1 of rho against the exact symmetric impact (one overdriven
+  elastic-plastic shock each way, tools/sabre_py/elastoplastic.py) at the cell centres.
 - piston_al_*: mean of the relative errors of the final-state density (averaged between
   the piston and the plastic shock) and of the plastic-shock speed (u crossing half-way
   between the HEL and the piston speed), exact from tools/sabre_py/elastoplastic.py.
@@ -19,7 +21,7 @@ import math
 
 import numpy as np
 
-from . import riemann
+from . import elastoplastic, riemann
 
 # name: (x0, left (rho, u, p), right) as in decks/<name>.nml (gamma 1.4)
 RIEMANN = {
@@ -30,6 +32,36 @@ RIEMANN = {
     'toro_4': (0.4, (5.99924, 19.5975, 460.894), (5.99242, -6.19633, 46.0950)),
     'toro_5': (0.8, (1.0, -19.59745, 1000.0), (1.0, -19.59745, 0.01)),
 }
+
+
+# the strong-shock families, where the study runs both reconstructed variables
+# (&numerics variables, m_characteristic); the other families run the primitive ones
+STRONG_SHOCK = ('toro_3', 'copper_impact_2500')
+
+
+def variables_for(family, scheme, given=None):
+    """The reconstructed variables the study runs for family and scheme: given (a list), or
+    both on the strong-shock families and primitive elsewhere; eno1 has only one."""
+    if scheme == 'eno1':
+        return ['primitive']
+    return given or (['primitive', 'characteristic'] if family in STRONG_SHOCK
+                     else ['primitive'])
+
+
+def impact_error(g, up=2500.0):
+    """L1 of rho of a symmetric copper impact at +-up (decks/copper_impact_2500.nml)."""
+    sol = elastoplastic.piston(elastoplastic.MATERIALS['copper'], up)
+    rho_ex = sol.impact_state(g.x, g.time, 0.0)[0]
+    return float(np.mean(np.abs(g.field('rho').reshape(-1) - rho_ex)))
+
+
+def gas_water_error(g):
+    """L1 of rho against the exact two-material solution (sabre_py/riemann.py with the air and
+    water of decks/gas_water_tube.nml) at the cell centres of the last plot file."""
+    ex = riemann.exact(g.x, g.time, 0.7, (50.0, 0.0, 1e9), (1000.0, 0.0, 1e5), gamma=1.4,
+                       gamma_right=4.4, pinf_right=6e8)[0]
+    num = g.field('rho').ravel()
+    return sum(abs(a - b) for a, b in zip(num, ex)) / len(ex)
 
 
 def is_gas(family):
@@ -112,4 +144,15 @@ def observed_order(runs):
 
 
 def label(r):
-    return f"{r['scheme']} rk{r['rk']} {r['flux']}"
+    char = ' char' if r.get('variables') == 'characteristic' else ''
+    return f"{r['scheme']}{char} rk{r['rk']} {r['flux']}"
+
+
+def num(v, spec):
+    """v formatted, or '-' where a failed run left it empty."""
+    return format(v, spec) if isinstance(v, (int, float)) else '-'
+
+
+def md_table(rows, heads, cells):
+    return (['| ' + ' | '.join(heads) + ' |', '|' + '---|' * len(heads)]
+            + ['| ' + ' | '.join(str(c) for c in cells(r)) + ' |' for r in rows])
