@@ -90,7 +90,8 @@ contains
   contains
 
     !> cell c0 closing: wet, its centre outside the phase, and either full by its fraction
-    !> or between two cells of the phase along some direction (a sliver of the void)
+    !> or between two cells of the phase along some direction where the level set folds (a
+    !> sliver of the void)
     logical function closing(c0)
       integer, intent(in) :: c0(3)
       integer :: g(3), d, m(3), p(3)
@@ -105,8 +106,12 @@ contains
         p = g
         m(d) = m(d) - 1
         p(d) = p(d) + 1
-        if (bigphi(m(1), m(2), m(3)) < 0.0_wp .and. bigphi(p(1), p(2), p(3)) < 0.0_wp) &
-          closing = .true.
+        ! (a sliver: the level set folds between the two, its second difference below
+        ! -h; where a void's flat side passes between cell centres, a centre just outside
+        ! between two just inside is no sliver: its second difference is -h^2 / R)
+        if (bigphi(m(1), m(2), m(3)) < 0.0_wp .and. bigphi(p(1), p(2), p(3)) < 0.0_wp &
+          .and. bigphi(m(1), m(2), m(3)) + bigphi(p(1), p(2), p(3)) &
+          - 2.0_wp * bigphi(g(1), g(2), g(3)) < -lay%dx(d)) closing = .true.
       end do
     end function closing
 
