@@ -19,7 +19,7 @@ module m_hotspot
   implicit none
   private
   public :: hot_t, hot_setup, hot_columns, hot_row_start, hot_block, hot_cell, hot_row
-  public :: hot_count
+  public :: hot_count, hot_nearest
   public :: hot_json, hot_pack, hot_unpack
 
   integer, parameter :: max_thresholds = 4
@@ -168,8 +168,11 @@ contains
     id = hot%id
     do k = 1, hot%nnear
       v = hot%near(k)
-      if (norm2(x(1:hot%ndim) - hot%void(v)%centre(1:hot%ndim)) <= hot_reach &
-        * hot%void(v)%radius) hot%part(row_near(v), id) = max(hot%part(row_near(v), id), temp)
+      if (norm2(x(1:hot%ndim) - hot%void(v)%centre(1:hot%ndim)) > hot_reach &
+        * hot%void(v)%radius) cycle
+      ! (voids on one level set, the spheres of one body: the cell is the nearest one's)
+      if (.not. hot_nearest(hot, x, v, hot%near(1:hot%nnear))) cycle
+      hot%part(row_near(v), id) = max(hot%part(row_near(v), id), temp)
     end do
     if (hot%n == 0) return
     if (.not. temp > hot%thr(1)) return
@@ -202,6 +205,28 @@ contains
       call move_alloc(b2, hot%block_of)
     end subroutine grow
   end subroutine hot_cell
+
+  !> Whether void v is, of the voids cand on its level set, the one whose surface is nearest
+  !> to x (the distance |x - centre| - radius; of equal ones the first): each cell near the
+  !> spheres of one body belongs to one of them. A void alone on its level set always is.
+  pure logical function hot_nearest(hot, x, v, cand) result(yes)
+    type(hot_t), intent(in) :: hot
+    real(wp), intent(in) :: x(3)
+    integer, intent(in) :: v, cand(:)
+    real(wp) :: dv, dw
+    integer :: k, w
+    yes = .true.
+    dv = norm2(x(1:hot%ndim) - hot%void(v)%centre(1:hot%ndim)) - hot%void(v)%radius
+    do k = 1, size(cand)
+      w = cand(k)
+      if (w == v .or. hot%void(w)%l /= hot%void(v)%l) cycle
+      dw = norm2(x(1:hot%ndim) - hot%void(w)%centre(1:hot%ndim)) - hot%void(w)%radius
+      if (dw < dv .or. (.not. dw > dv .and. w < v)) then
+        yes = .false.
+        return
+      end if
+    end do
+  end function hot_nearest
 
   !> The row's values (hot_columns' order) at time t, collective; void_vol: each void's
   !> volume (summed over the grid already), internal and kinetic: the grid's totals; cells:

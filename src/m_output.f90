@@ -17,7 +17,8 @@ module m_output
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
   use m_config, only: config_t, is_set, material_index
-  use m_hotspot, only: hot_t, hot_columns, hot_row_start, hot_block, hot_cell, hot_row
+  use m_hotspot, only: hot_t, hot_columns, hot_row_start, hot_block, hot_cell, hot_row, &
+    hot_nearest
   use m_kinds, only: i8, line_len
   use m_errors, only: stop_collective
   use m_text, only: base_name, normal_path, dir_name, replaced
@@ -352,19 +353,38 @@ contains
   function void_volumes(sim) result(vol)
     type(sim_t), intent(in) :: sim
     real(wp) :: vol(size(sim%hot%void))
-    real(wp) :: h, part(size(sim%hot%void), size(sim%blocks)), dv
-    integer :: b, i, v, n(3)
+    real(wp) :: h, part(size(sim%hot%void), size(sim%blocks)), dv, x(3)
+    integer :: b, i, j, k, v, n(3)
+    integer, allocatable :: every(:)
+    logical :: shared
     vol = 0.0_wp
     if (size(vol) == 0) return
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
     part = 0.0_wp
+    every = [(v, v = 1, size(vol))]
+    ! (voids sharing a level set, the spheres of one body: each cell counts for the nearest)
+    shared = .false.
+    do v = 2, size(vol)
+      if (any(sim%hot%void(1:v - 1)%l == sim%hot%void(v)%l)) shared = .true.
+    end do
     do b = 1, size(sim%blocks)
       n = sim%blocks(b)%n
       do i = 1, n(1)
         dv = cell_volume(sim%lay, sim%blocks(b)%offset, i)
         do v = 1, size(vol)
-          part(v, b) = part(v, b) + dv * sum(min(1.0_wp, max(0.0_wp, 0.5_wp &
-            - sim%blocks(b)%q(i, 1:n(2), 1:n(3), sim%ph%ils + sim%hot%void(v)%l) / h)))
+          if (.not. shared) then
+            part(v, b) = part(v, b) + dv * sum(min(1.0_wp, max(0.0_wp, 0.5_wp &
+              - sim%blocks(b)%q(i, 1:n(2), 1:n(3), sim%ph%ils + sim%hot%void(v)%l) / h)))
+            cycle
+          end if
+          do k = 1, n(3)
+            do j = 1, n(2)
+              x = cell_centre(sim%lay, sim%blocks(b)%offset, i, j, k)
+              if (.not. hot_nearest(sim%hot, x, v, every)) cycle
+              part(v, b) = part(v, b) + dv * min(1.0_wp, max(0.0_wp, 0.5_wp &
+                - sim%blocks(b)%q(i, j, k, sim%ph%ils + sim%hot%void(v)%l) / h))
+            end do
+          end do
         end do
       end do
     end do
