@@ -269,7 +269,6 @@ contains
     subroutine restore_fractions()
       real(wp), allocatable :: ext(:, :, :, :)
       integer :: e(3)
-      call h5_read_field(f, fractions_name, sim%lay, ids, data)
       e = max(sim%lay%ng - 1, 0)
       allocate(ext(1-e(1):sim%lay%nmax(1)+e(1), 1-e(2):sim%lay%nmax(2)+e(2), &
         1-e(3):sim%lay%nmax(3)+e(3), size(sim%blocks)))
@@ -277,7 +276,7 @@ contains
       call h5_read_field_halo(f, fractions_name, sim%lay, ids, e, ext)
       do b = 1, size(sim%blocks)
         n = sim%blocks(b)%n
-        sim%cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = data(1:n(1), 1:n(2), 1:n(3), b)
+        sim%cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = ext(1:n(1), 1:n(2), 1:n(3), b)
         if (allocated(sim%cut%ext_n(b)%a)) deallocate(sim%cut%ext_n(b)%a)
         allocate(sim%cut%ext_n(b)%a(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
         sim%cut%ext_n(b)%a = ext(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3), b)

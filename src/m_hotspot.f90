@@ -165,13 +165,15 @@ contains
     integer(i8), intent(in) :: gidx
     real(wp), intent(in) :: x(3), dv, rho, temp
     integer :: m, k, v, id
+    logical :: mine(hot%nnear)
     id = hot%id
+    ! (voids on one level set, the spheres of one body: the cell is the nearest one's)
+    mine = hot_nearest(hot, x, hot%near(1:hot%nnear))
     do k = 1, hot%nnear
       v = hot%near(k)
+      if (.not. mine(k)) cycle
       if (norm2(x(1:hot%ndim) - hot%void(v)%centre(1:hot%ndim)) > hot_reach &
         * hot%void(v)%radius) cycle
-      ! (voids on one level set, the spheres of one body: the cell is the nearest one's)
-      if (.not. hot_nearest(hot, x, v, hot%near(1:hot%nnear))) cycle
       hot%part(row_near(v), id) = max(hot%part(row_near(v), id), temp)
     end do
     if (hot%n == 0) return
@@ -206,25 +208,33 @@ contains
     end subroutine grow
   end subroutine hot_cell
 
-  !> Whether void v is, of the voids cand on its level set, the one whose surface is nearest
-  !> to x (the distance |x - centre| - radius; of equal ones the first): each cell near the
-  !> spheres of one body belongs to one of them. A void alone on its level set always is.
-  pure logical function hot_nearest(hot, x, v, cand) result(yes)
+  !> Which of the voids cand (ascending) is, of those on its level set, the one whose surface
+  !> is nearest to x (the distance |x - centre| - radius; of equal ones the first): each cell
+  !> near the spheres of one body belongs to one of them. A void alone on its level set
+  !> always is. One pass over cand.
+  pure function hot_nearest(hot, x, cand) result(mine)
     type(hot_t), intent(in) :: hot
     real(wp), intent(in) :: x(3)
-    integer, intent(in) :: v, cand(:)
-    real(wp) :: dv, dw
-    integer :: k, w
-    yes = .true.
-    dv = norm2(x(1:hot%ndim) - hot%void(v)%centre(1:hot%ndim)) - hot%void(v)%radius
+    integer, intent(in) :: cand(:)
+    logical :: mine(size(cand))
+    real(wp) :: d(size(cand))
+    integer, allocatable :: best(:)
+    integer :: k, l
+    allocate(best(maxval([0, hot%void(cand)%l])))
+    best = 0
     do k = 1, size(cand)
-      w = cand(k)
-      if (w == v .or. hot%void(w)%l /= hot%void(v)%l) cycle
-      dw = norm2(x(1:hot%ndim) - hot%void(w)%centre(1:hot%ndim)) - hot%void(w)%radius
-      if (dw < dv .or. (.not. dw > dv .and. w < v)) then
-        yes = .false.
-        return
+      l = hot%void(cand(k))%l
+      d(k) = norm2(x(1:hot%ndim) - hot%void(cand(k))%centre(1:hot%ndim)) &
+        - hot%void(cand(k))%radius
+      if (best(l) == 0) then
+        best(l) = k
+      else if (d(k) < d(best(l))) then
+        best(l) = k
       end if
+    end do
+    mine = .false.
+    do l = 1, size(best)
+      if (best(l) > 0) mine(best(l)) = .true.
     end do
   end function hot_nearest
 

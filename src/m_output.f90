@@ -356,7 +356,7 @@ contains
     real(wp) :: h, part(size(sim%hot%void), size(sim%blocks)), dv, x(3)
     integer :: b, i, j, k, v, n(3)
     integer, allocatable :: every(:)
-    logical :: shared
+    logical :: shared, mine(size(sim%hot%void))
     vol = 0.0_wp
     if (size(vol) == 0) return
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
@@ -371,17 +371,19 @@ contains
       n = sim%blocks(b)%n
       do i = 1, n(1)
         dv = cell_volume(sim%lay, sim%blocks(b)%offset, i)
-        do v = 1, size(vol)
-          if (.not. shared) then
+        if (.not. shared) then
+          do v = 1, size(vol)
             part(v, b) = part(v, b) + dv * sum(min(1.0_wp, max(0.0_wp, 0.5_wp &
               - sim%blocks(b)%q(i, 1:n(2), 1:n(3), sim%ph%ils + sim%hot%void(v)%l) / h)))
-            cycle
-          end if
-          do k = 1, n(3)
-            do j = 1, n(2)
-              x = cell_centre(sim%lay, sim%blocks(b)%offset, i, j, k)
-              if (.not. hot_nearest(sim%hot, x, v, every)) cycle
-              part(v, b) = part(v, b) + dv * min(1.0_wp, max(0.0_wp, 0.5_wp &
+          end do
+          cycle
+        end if
+        do k = 1, n(3)
+          do j = 1, n(2)
+            x = cell_centre(sim%lay, sim%blocks(b)%offset, i, j, k)
+            mine = hot_nearest(sim%hot, x, every)
+            do v = 1, size(vol)
+              if (mine(v)) part(v, b) = part(v, b) + dv * min(1.0_wp, max(0.0_wp, 0.5_wp &
                 - sim%blocks(b)%q(i, j, k, sim%ph%ils + sim%hot%void(v)%l) / h))
             end do
           end do

@@ -83,38 +83,15 @@ contains
           if (.not. in_domain(lay, offset, [i, j, k])) cycle
           best = largest_neighbour(lay, offset, n, e, alpha_e, [i, j, k])
           if (best(1) == huge(1)) cycle
-          if (alpha_e(best(1), best(2), best(3)) >= small) then
-            root(:, i, j, k) = best
-          else
-            best = largest_corner([i, j, k])
-            if (best(1) /= huge(1)) root(:, i, j, k) = best
-          end if
+          if (.not. alpha_e(best(1), best(2), best(3)) >= small) &
+            best = largest_neighbour(lay, offset, n, e, alpha_e, [i, j, k], corners=.true.)
+          if (best(1) == huge(1)) cycle
+          if (alpha_e(best(1), best(2), best(3)) >= small) root(:, i, j, k) = best
         end do
       end do
     end do
-
-  contains
-
-    !> the edge or corner neighbour of c (inside the domain and alpha_e) with the largest
-    !> fraction >= small, the first in the order of ring of equal ones; huge(1) when none
-    function largest_corner(c) result(best)
-      integer, intent(in) :: c(3)
-      integer :: best(3), nb(3, 26), l, nl
-      real(wp) :: a, top
-      best = huge(1)
-      top = -1.0_wp
-      call ring(lay%ndim, c, nb, nl)
-      do l = 2 * lay%ndim + 1, nl
-        if (any(nb(:, l) < 1 - e .or. nb(:, l) > n + e)) cycle
-        if (.not. in_domain(lay, offset, nb(:, l))) cycle
-        a = alpha_e(nb(1, l), nb(2, l), nb(3, l))
-        if (a >= small .and. a > top) then
-          top = a
-          best = nb(:, l)
-        end if
-      end do
-    end function largest_corner
   end subroutine group_roots
+
 
   !> The neighbours of cell c within one cell in ndim directions: the 2 ndim face
   !> neighbours first (-x, +x, -y, +y, -z, +z), then the edge and corner ones (x fastest);
@@ -169,25 +146,35 @@ contains
   end function in_domain
 
   !> The face neighbour of cell c inside the domain (and within alpha_e) with the largest
-  !> fraction > 0, the first in -x, +x, -y, +y, -z, +z of equal ones; huge(1) when none.
-  pure function largest_neighbour(lay, offset, n, e, alpha_e, c) result(best)
+  !> fraction > 0, the first in -x, +x, -y, +y, -z, +z of equal ones (corners: the edge and
+  !> corner neighbours instead, in the order of ring); huge(1) when none.
+  pure function largest_neighbour(lay, offset, n, e, alpha_e, c, corners) result(best)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: offset(3), n(3), e(3), c(3)
     real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
-    integer :: best(3), nb(3, 6), m, d
-    real(wp) :: a(6)
-    ! neighbour m: direction (m + 1) / 2, low side for odd m; -1 where there is none
-    a = -1.0_wp
-    do m = 1, 2 * lay%ndim
-      d = (m + 1) / 2
-      nb(:, m) = c
-      nb(d, m) = c(d) + 2 * mod(m + 1, 2) - 1
-      if (nb(d, m) < 1 - e(d) .or. nb(d, m) > n(d) + e(d)) cycle
-      if (in_domain(lay, offset, nb(:, m))) a(m) = alpha_e(nb(1, m), nb(2, m), nb(3, m))
-    end do
+    logical, intent(in), optional :: corners
+    integer :: best(3), nb(3, 26), l, nl, first, last
+    real(wp) :: a, top
+    call ring(lay%ndim, c, nb, nl)
+    first = 1
+    last = 2 * lay%ndim
+    if (present(corners)) then
+      if (corners) then
+        first = 2 * lay%ndim + 1
+        last = nl
+      end if
+    end if
     best = huge(1)
-    m = maxloc(a, 1)
-    if (a(m) > 0.0_wp) best = nb(:, m)
+    top = 0.0_wp
+    do l = first, last
+      if (any(nb(:, l) < 1 - e .or. nb(:, l) > n + e)) cycle
+      if (.not. in_domain(lay, offset, nb(:, l))) cycle
+      a = alpha_e(nb(1, l), nb(2, l), nb(3, l))
+      if (a > top) then
+        top = a
+        best = nb(:, l)
+      end if
+    end do
   end function largest_neighbour
 
   !> The first pass of turning content into states, on block blk (number b) after the halo
