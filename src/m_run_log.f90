@@ -107,6 +107,13 @@ contains
             size(body%field, 2), ' x ', size(body%field, 3), ' points, ', &
             body%generated_fraction, ' of the box lo..hi below its level (seed ', body%seed, &
             '; asked: volume_fraction ', body%volume_fraction, ')'
+        case ('grains')
+          write(line, '(a,i0,a,es10.3,a,i0,a,f6.4,a,i0,a,f6.4,a)') "scene: body '" &
+            // trim(body%name) // "': ", body%count, ' Voronoi grains, binder ', &
+            body%grains%thickness, ' m thick, in ', body%grains%ncolour, &
+            ' colours (level sets), ', body%generated_fraction, &
+            ' of the box lo..hi (seed ', body%seed, '; asked: volume_fraction ', &
+            body%volume_fraction, ')'
         case default
           cycle
         end select

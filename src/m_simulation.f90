@@ -97,7 +97,8 @@ contains
     integer :: d, p
     integer, allocatable :: work(:)
     type(material_t) :: mat
-    call scene_generate(cfg%bodies(1:cfg%n_bodies), cfg%ndim, base_name(cfg%deck_file))
+    call scene_generate(cfg%bodies(1:cfg%n_bodies), cfg%ndim, cfg%band * maxval((cfg%hi(1: &
+      cfg%ndim) - cfg%lo(1:cfg%ndim)) / cfg%cells(1:cfg%ndim)), base_name(cfg%deck_file))
     sim%cfg = cfg
     do d = 1, 3
       periodic(d) = trim(cfg%bc_lo(d)) == 'periodic'
@@ -265,7 +266,7 @@ contains
   subroutine level_set_bodies(cfg, sim)
     type(config_t), intent(in) :: cfg
     type(sim_t), intent(inout) :: sim
-    integer :: b, n, id, i, j, k, off(3), np, ext(3)
+    integer :: b, n, id, i, j, k, off(3), np, ext(3), c
     real(wp) :: deep, dmax
     logical, allocatable :: whole(:)
     character(len=:), allocatable :: base
@@ -291,10 +292,12 @@ contains
         end do
       end associate
     end do
-    n = count([(own_level_set(b) .and. .not. whole(b), b = 1, cfg%n_bodies)])
+    ! a level set per body, but one per colour of a body of grains (m_scene_grains)
+    n = sum([(merge(colours(b), 0, own_level_set(b) .and. .not. whole(b)), b = 1, &
+      cfg%n_bodies)])
     sim%ls%n = n
     allocate(sim%ls%kind(n), sim%ls%body(n), sim%ls%name(n), sim%ls%velocity(3, n), &
-      sim%ls%phase(n))
+      sim%ls%phase(n), sim%ls%colour(n))
     allocate(sim%ph%material(n + 1))
     np = 0
     if (sim%ls%base_flows) then
@@ -305,22 +308,26 @@ contains
     do b = 1, cfg%n_bodies
       associate (body => cfg%bodies(b))
         if (.not. own_level_set(b) .or. whole(b)) cycle
-        n = n + 1
-        sim%ls%body(n) = b
-        sim%ls%name(n) = body%name
-        sim%ls%velocity(:, n) = body%velocity
-        sim%ls%phase(n) = 0
-        select case (trim(body%material))
-        case ('void')
-          sim%ls%kind(n) = ls_void
-        case ('rigid')
-          sim%ls%kind(n) = ls_rigid
-        case default
-          sim%ls%kind(n) = ls_material
-          np = np + 1
-          sim%ls%phase(n) = np
-          sim%ph%material(np) = body%material
-        end select
+        do c = 1, colours(b)
+          n = n + 1
+          sim%ls%body(n) = b
+          sim%ls%colour(n) = merge(c, 0, body%shape == 'grains')
+          sim%ls%name(n) = body%name
+          if (body%shape == 'grains') sim%ls%name(n) = trim(body%name) // '.' // int_text(c)
+          sim%ls%velocity(:, n) = body%velocity
+          sim%ls%phase(n) = 0
+          select case (trim(body%material))
+          case ('void')
+            sim%ls%kind(n) = ls_void
+          case ('rigid')
+            sim%ls%kind(n) = ls_rigid
+          case default
+            sim%ls%kind(n) = ls_material
+            np = np + 1
+            sim%ls%phase(n) = np
+            sim%ph%material(np) = body%material
+          end select
+        end do
         if (sim%ls%kind(n) /= ls_rigid .or. any(abs(body%velocity) > 0.0_wp)) cycle
         ! blocks deep inside a resting rigid body are not computed
         deep = -(real(cfg%band + maxval(sim%lay%ng), wp) + 1.0_wp) &
@@ -345,6 +352,13 @@ contains
     sim%ph%material = sim%ph%material(1:np)
 
   contains
+
+    !> the level sets of body ib: one, or one per colour of its grains
+    integer function colours(ib)
+      integer, intent(in) :: ib
+      colours = 1
+      if (cfg%bodies(ib)%shape == 'grains') colours = cfg%bodies(ib)%grains%ncolour
+    end function colours
 
     !> A body of the base material only sets the initial state; so does a void body in a
     !> void base, unless a material body comes before it in the deck, which it then carves
@@ -379,7 +393,7 @@ contains
               x = cell_centre(sim%lay, blk%offset, i, j, k)
               do l = 1, sim%ls%n
                 phi(1, 1, 1, l) = body_distance(sim%cfg%bodies(sim%ls%body(l)), &
-                  sim%lay%ndim, x)
+                  sim%lay%ndim, x, sim%ls%colour(l))
                 if (sim%ls%kind(l) /= ls_material) cycle
                 do m = 1, l - 1
                   if (sim%ls%kind(m) == ls_material) &
@@ -580,7 +594,7 @@ contains
           do j = lo(2), hi(2)
             do i = lo(1), hi(1)
               phi(i, j, k, l) = body_distance(sim%cfg%bodies(sim%ls%body(l)), sim%lay%ndim, &
-                cell_centre(sim%lay, off, i, j, k))
+                cell_centre(sim%lay, off, i, j, k), sim%ls%colour(l))
             end do
           end do
         end do

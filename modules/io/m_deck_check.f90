@@ -410,7 +410,8 @@ contains
       logical :: generated
       do i = 1, cfg%n_bodies
         associate(b => cfg%bodies(i))
-          generated = b%shape == 'random_spheres' .or. b%shape == 'random_field'
+          generated = b%shape == 'random_spheres' .or. b%shape == 'random_field' .or. &
+            b%shape == 'grains'
           if (len_trim(b%name) == 0) b%name = 'body' // int_text(i)
           in_b = " in body '" // trim(b%name) // "'"
           call rule(.not. valid_name(b%name), 'body name', "'" // trim(b%name) &
@@ -475,6 +476,14 @@ contains
           wp)) > max_field_points, 'body correlation_length', 'too small for the box' // in_b &
           // ': the field has 8 grid points per correlation length and at most 2^22 (raise' &
           // ' it or shrink lo..hi)' // gr(b%correlation_length))
+        return
+      end if
+      if (b%shape == 'grains') then
+        call rule(.not. b%count > 1, 'body count', 'must be > 1 for grains (the number of ' &
+          // 'grains)' // in_b // gi(b%count))
+        call rule(.not. (b%volume_fraction > 0.0_wp .and. b%volume_fraction < 1.0_wp), &
+          'body volume_fraction', 'must be in (0, 1) for grains (their share of the box, ' &
+          // 'the rest binder)' // in_b // gr(b%volume_fraction))
         return
       end if
       call rule(b%count == 0 .and. .not. b%volume_fraction > 0.0_wp, 'body volume_fraction', &

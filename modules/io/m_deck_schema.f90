@@ -39,8 +39,8 @@ module m_deck_schema
     'llf']
   character(len=11), parameter :: conserve_names(4) = [character(len=11) :: 'mass_energy', &
     'mass', 'none', 'cut_cell']
-  character(len=14), parameter :: shape_names(6) = [character(len=14) :: 'box', 'sphere', &
-    'cylinder', 'half_space', 'random_spheres', 'random_field']
+  character(len=14), parameter :: shape_names(7) = [character(len=14) :: 'box', 'sphere', &
+    'cylinder', 'half_space', 'random_spheres', 'random_field', 'grains']
   character(len=9), parameter :: size_distribution_names(3) = [character(len=9) :: 'fixed', &
     'uniform', 'lognormal']
 
@@ -183,8 +183,8 @@ contains
     call t%add('radius', b%radius, '0.1', 'radius of a sphere, cylinder; random_spheres (m)')
     call t%add('length', b%length, '0.2', 'length of a cylinder (m)')
     call t%add('axis', b%axis, '0.0, 0.0, 1.0', 'cylinder axis; outward normal of a half_space')
-    call t%add('lo', b%lo, '0.0, 0.0, 0.0', 'low corner of a box, or of a random_* (m)')
-    call t%add('hi', b%hi, '0.5, 1.0, 1.0', 'high corner of a box, or of a random_* (m)')
+    call t%add('lo', b%lo, '0.0, 0.0, 0.0', 'low corner of a box, a random_* or grains (m)')
+    call t%add('hi', b%hi, '0.5, 1.0, 1.0', 'high corner of a box, a random_* or grains (m)')
     call t%add('velocity', b%velocity, '1000.0, 0.0, 0.0', 'initial velocity (m/s)')
     call t%add('rho', b%rho, '1000.0', "initial density (unset: the material's rho0)")
     call t%add('p', b%p, '1.0e5', "initial pressure (unset: the material's p0)")
@@ -192,12 +192,12 @@ contains
     call t%add('amplitude', b%amplitude, '0.2', 'rho (or T if given) (1 + a sin(2 pi k.x))', &
       allowed='in (-1, 1) so that rho (1 + amplitude sin(2 pi k.x)) stays > 0')
     call t%add('wavevector', b%wavevector, '1.0, 0.0, 0.0', 'k of that perturbation (1/m)')
-    ! the scene generators (manual/scenes.md): shapes random_spheres and random_field
-    call t%add('seed', b%seed, '1', 'random_*: seed of the random numbers (any integer)')
+    ! the scene generators (manual/scenes.md): shapes random_spheres, random_field, grains
+    call t%add('seed', b%seed, '1', 'random_*, grains: seed of the random numbers (any integer)')
     call t%add('volume_fraction', b%volume_fraction, '0.2', &
-      'random_*: share of the box lo..hi it fills (area in 2D)', allowed='in [0, 1)')
-    call t%add('count', b%count, '100', 'random_spheres: how many (0: from volume_fraction)', &
-      allowed='>= 0')
+      'random_*, grains: share of the box lo..hi it fills (area in 2D)', allowed='in [0, 1)')
+    call t%add('count', b%count, '100', 'random_spheres (0: from volume_fraction), grains: ' &
+      // 'how many', allowed='>= 0')
     call t%add('size_distribution', b%size_distribution, "'fixed'", &
       'random_spheres: radius; uniform in radius_min..max; lognormal', size_distribution_names)
     call t%add('radius_min', b%radius_min, '4.0e-6', 'random_spheres: smallest radius (m)', &

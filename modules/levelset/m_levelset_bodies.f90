@@ -27,6 +27,7 @@ module m_levelset_bodies
     integer, allocatable :: kind(:)         !< ls_material | ls_void | ls_rigid
     integer, allocatable :: body(:)         !< index of the body in the deck
     integer, allocatable :: phase(:)        !< phase of a material body's level set, else 0
+    integer, allocatable :: colour(:)       !< the colour of a body of grains, else 0
     character(len=name_len), allocatable :: name(:)
     real(wp), allocatable :: velocity(:, :) !< (3, n): velocity of a rigid body
   end type ls_set_t

@@ -5,14 +5,16 @@
 !> computed and act as exact rigid walls for their neighbours, m_boundary), and the motion of
 !> a moving rigid body, whose level set is its distance at the time of each stage; whether
 !> the boxes of a material tile the domain (m_deck_check: then it needs no rest state). The
-!> generated shapes (random spheres, a random field: manual/scenes.md) are made once at
-!> set-up by scene_generate, on every rank alike, and are one body, so one level set, each.
+!> generated shapes (random spheres, a random field, Voronoi grains: manual/scenes.md) are
+!> made once at set-up by scene_generate, on every rank alike; each is one body, with one
+!> level set, but grains one level set per colour (body_distance's colour).
 module m_scene
   use m_kinds, only: wp
   use m_config, only: body_t
   use m_errors, only: stop_collective
   use m_scene_generate, only: random_spheres, spheres_distance
   use m_scene_field, only: random_field, field_distance
+  use m_scene_grains, only: make_grains, grains_distance
   use m_layout, only: layout_t, block_offset, block_extent
   use m_blocks, only: block_t
   use m_levelset_bodies, only: ls_set_t, ls_rigid
@@ -91,7 +93,7 @@ contains
         sum((r - along * a)**2) <= body%radius**2
     case ('half_space')
       inside = dot_product(r, body%axis) <= 0.0_wp
-    case ('random_spheres', 'random_field')
+    case ('random_spheres', 'random_field', 'grains')
       inside = body_distance(body, ndim, x) <= 0.0_wp
     case default
       inside = .false.
@@ -101,11 +103,13 @@ contains
   !> Signed distance from point x to the body's surface (negative inside; only the first ndim
   !> coordinates count): exact for spheres, half spaces, boxes, finite cylinders and random
   !> spheres, so the level sets start as signed distances; a random field's is its grid's
-  !> distance interpolated, clipped by the box.
-  pure real(wp) function body_distance(body, ndim, x) result(d)
+  !> distance interpolated, clipped by the box; grains', that of the grains of one colour
+  !> (colour > 0) or of all (m_scene_grains).
+  pure real(wp) function body_distance(body, ndim, x, colour) result(d)
     type(body_t), intent(in) :: body
     integer, intent(in) :: ndim
     real(wp), intent(in) :: x(3)
+    integer, intent(in), optional :: colour
     real(wp) :: r(3), a(3), along, side(3)
     r = 0.0_wp
     r(1:ndim) = x(1:ndim) - body%center(1:ndim)
@@ -127,6 +131,12 @@ contains
       d = spheres_distance(body%spheres, ndim, x)
     case ('random_field')
       d = field_distance(body%field, ndim, body%lo, body%hi, x)
+    case ('grains')
+      if (present(colour)) then
+        d = grains_distance(body%grains, ndim, body%lo, body%hi, colour, x)
+      else
+        d = grains_distance(body%grains, ndim, body%lo, body%hi, 0, x)
+      end if
     case default
       d = huge(1.0_wp)
     end select
@@ -139,13 +149,15 @@ contains
     d = norm2(max(side, 0.0_wp)) + min(maxval(side), 0.0_wp)
   end function box_distance
 
-  !> Make the generated shapes of the bodies (random spheres, a random field) from their
-  !> deck variables; every rank makes the same (the same arithmetic on the same seed, no
-  !> communication: manual/scenes.md). A scene that cannot be made stops every rank with
-  !> the body's name and what to change (deck: the deck file's name for the message).
-  subroutine scene_generate(bodies, ndim, deck)
+  !> Make the generated shapes of the bodies (random spheres, a random field, grains) from
+  !> their deck variables; every rank makes the same (the same arithmetic on the same seed,
+  !> no communication: manual/scenes.md). g: the ghost band (a length) that grains of one
+  !> colour keep apart. A scene that cannot be made stops every rank with the body's name
+  !> and what to change (deck: the deck file's name for the message).
+  subroutine scene_generate(bodies, ndim, g, deck)
     type(body_t), intent(inout) :: bodies(:)
     integer, intent(in) :: ndim
+    real(wp), intent(in) :: g
     character(len=*), intent(in) :: deck
     character(len=:), allocatable :: why
     integer :: b
@@ -160,6 +172,13 @@ contains
         case ('random_field')
           call random_field(ndim, body%lo, body%hi, body%seed, body%correlation_length, &
             body%volume_fraction, body%field, body%generated_fraction, why)
+        case ('grains')
+          call make_grains(ndim, body%lo, body%hi, body%seed, body%count, &
+            body%volume_fraction, g, body%grains, body%generated_fraction, why)
+          ! a grain's level set is held at cap beyond it: the band must fit inside
+          if (len(why) == 0 .and. body%grains%cap < g) why = 'the grains are too small ' &
+            // 'for the mesh: their spacing must exceed the ghost band (band cells); ' &
+            // 'refine the mesh or give fewer grains'
         case default
           cycle
         end select

@@ -2,9 +2,7 @@
 !> portable random numbers they draw (xoshiro256**, seeded from the deck's integer seed),
 !> random non-overlapping spheres (circles in 2D) at a volume fraction or count with a size
 !> distribution and a minimum gap, inside a box (random sequential addition, largest first);
-!> Voronoi grains with binder layers (each grain its Voronoi cell shrunk by half the binder
-!> thickness, the thickness from a binder volume fraction) and a colouring of the grains such
-!> that grains of one colour never come within a ghost band of each other. The Gaussian
+!> the seeds of Voronoi grains (the grains themselves are m_scene_grains). The Gaussian
 !> random field is m_scene_field. Everything here is plain arithmetic on the seed: every rank
 !> draws the same numbers and builds the same scene, so no rank talks to another. It does not
 !> paint the scene onto blocks (m_scene) or read the deck (m_deck).
@@ -15,7 +13,7 @@ module m_scene_generate
   private
   public :: rng_t, rng_seed, rng_next, rng_uniform, rng_normal
   public :: random_spheres, sphere_volume, spheres_distance
-  public :: random_points, grain_distance, binder_thickness, grain_conflicts, colour_graph
+  public :: random_points
 
   real(wp), parameter :: pi = 4.0_wp * atan(1.0_wp)
   !> placements tried for one sphere before the generator gives up
@@ -298,181 +296,6 @@ contains
       d = min(d, norm2(x(1:ndim) - spheres(1:ndim, k)) - spheres(4, k))
     end do
   end function spheres_distance
-
-  !> Level set of grain i (negative inside) among the Voronoi seeds c(3, n): its cell shrunk
-  !> by half the binder thickness t, as the largest signed distance to the bisector planes,
-  !> clipped by the box lo..hi. Exact inside a grain; outside, never more than the distance
-  !> (each plane's distance is a lower bound), so a test "within g" by it is conservative.
-  pure real(wp) function grain_distance(c, i, ndim, lo, hi, t, x) result(d)
-    real(wp), intent(in) :: c(:, :), lo(3), hi(3), t, x(3)
-    integer, intent(in) :: i, ndim
-    integer :: j
-    real(wp) :: e
-    d = maxval(max(lo(1:ndim) - x(1:ndim), x(1:ndim) - hi(1:ndim)))
-    do j = 1, size(c, 2)
-      if (j == i) cycle
-      e = norm2(c(1:ndim, i) - c(1:ndim, j))
-      d = max(d, (sum((x(1:ndim) - c(1:ndim, i))**2) - sum((x(1:ndim) - c(1:ndim, j))**2)) &
-        / (2.0_wp * e) + 0.5_wp * t)
-    end do
-  end function grain_distance
-
-  !> The binder thickness t such that the binder (the layers of thickness t centred on the
-  !> Voronoi faces between the seeds c) fills volume_fraction of the box lo..hi, measured on
-  !> a raster of spacing h: t / 2 is that quantile of the distance of the raster points to
-  !> the face of their own cell. A binder mass fraction w of density rho_b among grains of
-  !> rho_g is the volume fraction (w / rho_b) / (w / rho_b + (1 - w) / rho_g).
-  subroutine binder_thickness(c, ndim, lo, hi, volume_fraction, h, t)
-    real(wp), intent(in) :: c(:, :), lo(3), hi(3), volume_fraction, h
-    integer, intent(in) :: ndim
-    real(wp), intent(out) :: t
-    real(wp), allocatable :: w(:)
-    real(wp) :: x(3), b(size(c, 2)), tlo, thi, tm
-    integer :: n(3), i, j, k, m, near, it
-    n = 1
-    n(1:ndim) = max(1, nint((hi(1:ndim) - lo(1:ndim)) / h))
-    allocate(w(product(n)))
-    m = 0
-    do k = 1, n(3)
-      do j = 1, n(2)
-        do i = 1, n(1)
-          x = raster_point(lo, hi, n, i, j, k)
-          b = [(norm2(x(1:ndim) - c(1:ndim, near)), near = 1, size(c, 2))]
-          near = minloc(b, 1)
-          m = m + 1
-          w(m) = huge(1.0_wp)
-          do it = 1, size(c, 2)
-            if (it /= near) w(m) = min(w(m), (b(it)**2 - b(near)**2) &
-              / (2.0_wp * norm2(c(1:ndim, it) - c(1:ndim, near))))
-          end do
-        end do
-      end do
-    end do
-    ! the quantile by bisection on the value (no sort of a large raster)
-    tlo = 0.0_wp
-    thi = maxval(w)
-    do it = 1, 200
-      tm = 0.5_wp * (tlo + thi)
-      if (count(w < tm) >= volume_fraction * size(w)) then
-        thi = tm
-      else
-        tlo = tm
-      end if
-      if (thi - tlo <= 1.0e-12_wp * thi) exit
-    end do
-    t = 2.0_wp * thi
-  end subroutine binder_thickness
-
-  !> The centre of raster cell (i, j, k) of n cells over lo..hi.
-  pure function raster_point(lo, hi, n, i, j, k) result(x)
-    real(wp), intent(in) :: lo(3), hi(3)
-    integer, intent(in) :: n(3), i, j, k
-    real(wp) :: x(3)
-    x = lo + (real([i, j, k], wp) - 0.5_wp) * (hi - lo) / real(n, wp)
-  end function raster_point
-
-  !> Which grains (seeds c, binder thickness t, box lo..hi) come within g of each other:
-  !> conflict(i, j) when some point of the box lies within g / 2 of both, found on a raster
-  !> of spacing about g / 3 with the raster's half diagonal added to g / 2 (grain_distance
-  !> is 1-Lipschitz and never above the distance), so no pair closer than g is missed; a
-  !> pair a little farther may be taken as conflicting too.
-  subroutine grain_conflicts(c, ndim, lo, hi, t, g, conflict)
-    real(wp), intent(in) :: c(:, :), lo(3), hi(3), t, g
-    integer, intent(in) :: ndim
-    logical, allocatable, intent(out) :: conflict(:, :)
-    real(wp) :: x(3), b(size(c, 2)), reach, hx(3), bmin
-    integer :: n(3), i, j, k, a, e, ncand, cand(size(c, 2))
-    integer :: ng
-    ng = size(c, 2)
-    allocate(conflict(ng, ng))
-    conflict = .false.
-    n = 1
-    n(1:ndim) = max(1, ceiling((hi(1:ndim) - lo(1:ndim)) / (g / 3.0_wp)))
-    hx = (hi - lo) / real(n, wp)
-    reach = 0.5_wp * g + 0.5_wp * norm2(hx(1:ndim))
-    do k = 1, n(3)
-      do j = 1, n(2)
-        do i = 1, n(1)
-          x = raster_point(lo, hi, n, i, j, k)
-          b = [(norm2(x(1:ndim) - c(1:ndim, a)), a = 1, ng)]
-          bmin = minval(b)
-          ! grain a is within reach of x only if b(a) < bmin + 2 reach - t (its bisector
-          ! with the nearest seed is farther otherwise)
-          ncand = 0
-          do a = 1, ng
-            if (b(a) > bmin .and. b(a) >= bmin + 2.0_wp * reach - t) cycle
-            if (.not. within(a)) cycle
-            ncand = ncand + 1
-            cand(ncand) = a
-          end do
-          do a = 1, ncand
-            do e = a + 1, ncand
-              conflict(cand(a), cand(e)) = .true.
-              conflict(cand(e), cand(a)) = .true.
-            end do
-          end do
-        end do
-      end do
-    end do
-
-  contains
-
-    !> grain_distance(a) at x < reach; a seed j farther from x than seed a has a bisector
-    !> distance <= (b(a) - b(j)) / 2, so only those with b(j) <= b(a) + t - 2 reach or
-    !> nearer than seed a can push it up to reach
-    logical function within(ia)
-      integer, intent(in) :: ia
-      integer :: jb
-      real(wp) :: d
-      within = .false.
-      if (maxval(max(lo(1:ndim) - x(1:ndim), x(1:ndim) - hi(1:ndim))) >= reach) return
-      do jb = 1, ng
-        if (jb == ia .or. b(jb) > max(b(ia), b(ia) + t - 2.0_wp * reach)) cycle
-        d = (b(ia)**2 - b(jb)**2) / (2.0_wp * norm2(c(1:ndim, ia) - c(1:ndim, jb))) + 0.5_wp * t
-        if (d >= reach) return
-      end do
-      within = .true.
-    end function within
-
-  end subroutine grain_conflicts
-
-  !> Greedy colouring of the graph adj (symmetric, no self loops) by DSATUR (Brelaz 1979):
-  !> repeatedly colour the vertex whose neighbours already use the most colours (ties: the
-  !> most neighbours, then the lowest index) with the lowest colour none of them uses.
-  !> colour(k) in 1..ncolours; O(n^2).
-  subroutine colour_graph(adj, colour, ncolours)
-    logical, intent(in) :: adj(:, :)
-    integer, intent(out) :: colour(size(adj, 1)), ncolours
-    logical, allocatable :: seen(:, :)   ! seen(c, v): a neighbour of v has colour c
-    integer :: n, step, v, k, c, sat(size(adj, 1)), deg(size(adj, 1))
-    n = size(adj, 1)
-    deg = count(adj, 2)
-    ! no vertex needs a colour above its degree + 1
-    allocate(seen(maxval([0, deg]) + 2, n))
-    seen = .false.
-    sat = 0
-    colour = 0
-    ncolours = 0
-    do step = 1, n
-      v = 0
-      do k = 1, n
-        if (colour(k) > 0) cycle
-        if (v == 0) then
-          v = k
-        else if (sat(k) > sat(v) .or. (sat(k) == sat(v) .and. deg(k) > deg(v))) then
-          v = k
-        end if
-      end do
-      c = findloc(seen(:, v), .false., 1)
-      colour(v) = c
-      ncolours = max(ncolours, c)
-      do k = 1, n
-        if (.not. adj(k, v) .or. seen(c, k)) cycle
-        seen(c, k) = .true.
-        sat(k) = sat(k) + 1
-      end do
-    end do
-  end subroutine colour_graph
 
   !> r sorted largest first (equal radii keep their order)
   pure subroutine sort_descending(r)

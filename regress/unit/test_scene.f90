@@ -10,8 +10,10 @@ program test_scene
   use m_kinds, only: wp, i8
   use m_comm, only: comm_init
   use m_scene_generate, only: rng_t, rng_next, rng_seed, rng_uniform, random_spheres, &
-    sphere_volume, spheres_distance, random_points, grain_distance, binder_thickness, &
-    grain_conflicts, colour_graph
+    sphere_volume, spheres_distance, random_points
+  use m_scene_grains, only: grain_distance, binder_thickness, grain_conflicts, colour_graph, &
+    make_grains, grains_distance
+  use m_config, only: grains_t
   use m_scene_field, only: random_field, field_distance
   use m_test_check, only: check_start, check, check_close, check_done, int_text
   implicit none
@@ -22,6 +24,7 @@ program test_scene
   call spheres()
   call field()
   call grains()
+  call grain_bodies()
   call check_done()
 
 contains
@@ -265,6 +268,49 @@ contains
     call check('64 grains: grains of one colour at least the ghost band apart', &
       worst + sqrt(2.0_wp) / m >= g)
   end subroutine grains
+
+  !> A body of 1024 grains as the solver makes it (make_grains): its fraction, its colours,
+  !> and the level set of each colour by the near seeds and bins against the brute-force
+  !> minimum of grain_distance over the grains of that colour, at 100 random points and
+  !> 100 of a raster: the same within the ghost band (to round-off), the same sign
+  !> everywhere, and never above cap. The PBX deck's scale: 10 mm at 10 um, band 6 cells.
+  subroutine grain_bodies()
+    type(grains_t) :: gr
+    type(rng_t) :: rng
+    character(len=:), allocatable :: why
+    real(wp) :: lo(3), hi(3), g, achieved, x(3), fast, slow, worst
+    integer :: k, a, col, wrong
+    lo = 0.0_wp
+    hi = [1.0_wp, 1.0_wp, 0.0_wp]
+    g = 6.0_wp / 1000.0_wp
+    call make_grains(2, lo, hi, 1, 1024, 0.9396_wp, g, gr, achieved, why)
+    print '(a, f7.4, a, i0, a, es10.3)', '  grain body: fraction ', achieved, ', colours ', &
+      gr%ncolour, ', binder thickness ', gr%thickness
+    call check('grain body made', len(why) == 0 .and. size(gr%seed, 2) == 1024)
+    call check_close('grain body: fraction 0.9396 within 0.005', achieved, 0.9396_wp, 0.005_wp)
+    call check('grain body: at most 8 colours', gr%ncolour <= 8)
+    call rng_seed(rng, 7)
+    worst = 0.0_wp
+    wrong = 0
+    do k = 1, 200
+      x = [rng_uniform(rng), rng_uniform(rng), 0.0_wp]
+      if (k > 100) x = [(mod(k, 10) + 0.5_wp) / 10.0_wp, (k / 10 - 9.5_wp) / 10.0_wp, 0.0_wp]
+      do col = 0, gr%ncolour
+        slow = huge(1.0_wp)
+        do a = 1, 1024
+          if (col == 0 .or. gr%colour(a) == col) &
+            slow = min(slow, grain_distance(gr%seed, a, 2, lo, hi, gr%thickness, x))
+        end do
+        fast = grains_distance(gr, 2, lo, hi, col, x)
+        if (slow < g) worst = max(worst, abs(fast - slow))
+        if ((fast < 0.0_wp .neqv. slow < 0.0_wp) .or. fast > gr%cap) wrong = wrong + 1
+      end do
+    end do
+    print '(a, es10.3, a, i0)', '  grain body: largest difference within the band ', worst, &
+      ', points of the wrong sign or above cap ', wrong
+    call check('grain body: level sets exact within the band', worst < 1.0e-12_wp)
+    call check('grain body: the sign right everywhere, never above cap', wrong == 0)
+  end subroutine grain_bodies
 
   !> the same bits (reals compared without a tolerance; arrays of any rank by pack)
   pure logical function same(a, b)
