@@ -176,8 +176,9 @@ contains
         ' ghosts across a material-material interface (MMI), ', &
         f%gfm%separated, ' contact ghosts in tension treated as free surfaces'
       call log_line(line)
-      write(line, '(a,i0,a)') 'gfm: ', f%gfm%debris, ' inadmissible cells ' // &
-        'within 2 cells of a body surface taken out of the body as debris'
+      write(line, '(a,i0,a,i0,a)') 'gfm: ', f%gfm%debris, ' inadmissible cells ' // &
+        'within 2 cells of a body surface taken out of the body as debris; ', f%gfm%absent, &
+        ' right-hand sides of a phase on a block it is absent from not computed'
       call log_line(line)
       if (s%fix%on) then
         write(line, '(a,es11.4,a,f8.4,a,es11.4,a)') 'gfm: conservation fix took out ', &

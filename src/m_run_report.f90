@@ -187,6 +187,7 @@ contains
     f%gfm%mmi = comm_sum(s%gf%counts%mmi)
     f%gfm%separated = comm_sum(s%gf%counts%separated)
     f%gfm%debris = comm_sum(s%gf%counts%debris)
+    f%gfm%absent = comm_sum(s%gf%counts%absent)
     f%gfm_s = comm_max(timer_total(s%timers, 'gfm'))
     f%reinit_s = comm_max(timer_total(s%timers, 'reinit'))
     if (s%fix%on) then
@@ -308,6 +309,7 @@ contains
       call json_put(js, 'mmi', f%gfm%mmi)
       call json_put(js, 'contact_in_tension', f%gfm%separated)
       call json_put(js, 'debris', f%gfm%debris)
+      call json_put(js, 'absent_phase_rhs', f%gfm%absent)
       call json_put(js, 'fill_seconds', f%gfm_s)
       call json_put(js, 'reinit_seconds', f%reinit_s)
       call json_close(js)

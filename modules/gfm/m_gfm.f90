@@ -50,6 +50,7 @@ module m_gfm
     integer(i8) :: mmi = 0          !< ghosts filled across a material-material interface
     integer(i8) :: separated = 0    !< colliding ghosts with tension: treated as free
     integer(i8) :: debris = 0       !< inadmissible surface cells taken out of a body
+    integer(i8) :: absent = 0       !< phase right-hand sides skipped: the phase not in the block
   end type gfm_counts_t
 
   type :: gfm_work_t

@@ -95,7 +95,8 @@ contains
   !> strength and a surface first takes its composite level set at the stage's start: which
   !> cells are real (for the radial return), which faces join two of them (upwind scalar
   !> flux) and which lie on its surface (transported variables at the real cell's value);
-  !> what came in through the domain's sides goes to the conservation fix.
+  !> what came in through the domain's sides goes to the conservation fix. Such a phase is
+  !> not computed at all on a block it is absent from.
   subroutine phase_rhs(gf, cut, ls, ph, num, fix, blk, b, p, stage, wall, vwall, work, nf, &
       failed, trouble)
     type(gf_t), intent(inout) :: gf
@@ -120,6 +121,16 @@ contains
       call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
         gf%work%bigphi(:, :, :, p), gf%work%owner(:, :, :, p))
       gf%work%isreal(:, :, :, p) = gf%work%bigphi(:, :, :, p) < 0.0_wp
+      ! a phase absent from the block (every cell more than two cells beyond its region, so
+      ! that no cell can turn real in the stage) is not computed: its cells go to the rest
+      ! state after the update anyway (gfm_rest); so the cost follows the phases present
+      if (.not. cut%on .and. minval(gf%work%bigphi(1:blk%n(1), 1:blk%n(2), 1:blk%n(3), p)) &
+          > 2.0_wp * maxval(blk%lay%dx(1:blk%lay%ndim))) then
+        blk%rhs(:, :, :, ph%lo(p):ph%hi(p)) = 0.0_wp
+        if (fix%on) fix%bflux(:, p, b, stage) = 0.0_wp
+        gf%counts%absent = gf%counts%absent + 1
+        return
+      end if
       if (p == cut%p) then
         ! the cut-cell phase: the rate of its content, fluxes times the wet faces; every
         ! face with a wet part joins two wet cells, and there the transported variables
