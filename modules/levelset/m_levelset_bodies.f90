@@ -42,42 +42,41 @@ contains
     real(wp), intent(in) :: phi(lo(1):, lo(2):, lo(3):, :)
     real(wp), intent(out) :: bigphi(lo(1):, lo(2):, lo(3):)
     integer, intent(out) :: owner(lo(1):, lo(2):, lo(3):)
-    integer :: i, j, k, l
-    real(wp) :: v, t
+    integer :: l
     logical :: base
+    ! level set by level set over the whole box (the cells vectorise); the first that
+    ! attains the extremum owns the cell, as a cell-by-cell loop over l would have it
     base = set%base_flows .and. p == 1
-    do k = lo(3), hi(3)
-      do j = lo(2), hi(2)
-        do i = lo(1), hi(1)
-          v = merge(-huge(1.0_wp), huge(1.0_wp), base)
-          owner(i, j, k) = 0
-          do l = 1, set%n
-            if (set%kind(l) /= ls_material) cycle
-            if (base) then
-              t = -phi(i, j, k, l)
-              if (t > v) then
-                v = t
-                owner(i, j, k) = -l
-              end if
-            else if (set%phase(l) == p) then
-              if (phi(i, j, k, l) < v) then
-                v = phi(i, j, k, l)
-                owner(i, j, k) = -l
-              end if
-            end if
-          end do
-          do l = 1, set%n
-            if (set%kind(l) == ls_material) cycle
-            t = -phi(i, j, k, l)
-            if (t > v) then
-              v = t
-              owner(i, j, k) = merge(l, 0, set%kind(l) == ls_rigid)
-            end if
-          end do
-          bigphi(i, j, k) = v
-        end do
+    associate (v => bigphi(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), &
+        own => owner(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
+      v = merge(-huge(1.0_wp), huge(1.0_wp), base)
+      own = 0
+      do l = 1, set%n
+        if (set%kind(l) /= ls_material) cycle
+        associate (f => phi(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), l))
+          if (base) then
+            where (-f > v)
+              v = -f
+              own = -l
+            end where
+          else if (set%phase(l) == p) then
+            where (f < v)
+              v = f
+              own = -l
+            end where
+          end if
+        end associate
       end do
-    end do
+      do l = 1, set%n
+        if (set%kind(l) == ls_material) cycle
+        associate (f => phi(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), l))
+          where (-f > v)
+            v = -f
+            own = merge(l, 0, set%kind(l) == ls_rigid)
+          end where
+        end associate
+      end do
+    end associate
   end subroutine ls_region
 
   !> Bodies may not overlap: where two material level sets are both negative, both move to
