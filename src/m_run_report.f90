@@ -129,10 +129,19 @@ contains
   function seconds(x) result(r)
     real(wp), intent(in) :: x
     character(len=:), allocatable :: r
-    character(len=32) :: buf
-    write(buf, '(f12.1)') x
-    r = trim(adjustl(buf))
+    r = fixed(x, 1)
   end function seconds
+
+  !> x with digits decimals and a leading zero: 0.00, 11.60
+  function fixed(x, digits) result(r)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: digits
+    character(len=:), allocatable :: r
+    character(len=32) :: buf, fmt
+    write(fmt, '(a,i0,a)') '(f24.', digits, ')'
+    write(buf, fmt) x
+    r = trim(adjustl(buf))
+  end function fixed
 
   !> run.log's reason for the thermal effect
   function thermal_reason(s) result(text)
@@ -246,7 +255,7 @@ contains
     character(len=line_len) :: line
     real(wp) :: steps
     steps = real(max(f%halo_steps, 1_i8), wp)
-    write(line, '(a,f0.2,3a,i0,3a,i0,3a)') 'halo: ', f%halo_messages(1) / steps, &
+    write(line, '(5a,i0,3a,i0,3a)') 'halo: ', fixed(f%halo_messages(1) / steps, 2), &
       ' messages/step/rank (max), ', sci(f%halo_bytes(1) / steps, 3), &
       ' bytes/step/rank (max); total ', f%halo_messages(2), ' messages, ', &
       sci(real(f%halo_bytes(2), wp), 3), ' bytes over all ranks in ', f%halo_steps, &
@@ -288,6 +297,7 @@ contains
     call json_put(js, 'active_blocks', count(s%lay%active))
     call json_put(js, 'blocks_per_rank_min', f%blocks_min)
     call json_put(js, 'blocks_per_rank_max', f%blocks_max)
+    call json_put_array(js, 'block_rank', s%lay%owner)
     call json_close(js)
     call json_object(js, 'numerics')
     call json_put(js, 'scheme', s%cfg%scheme)
