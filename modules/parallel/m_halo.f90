@@ -37,11 +37,10 @@ module m_halo
 
   !> What this rank's calls of halo_exchange moved since the counts were last reset (the
   !> time loop resets them at its start and counts its steps): messages and bytes sent to
-  !> other ranks, and pieces and bytes copied between its own blocks (halo_refresh's copies
-  !> left out). A rebuilt plan starts from zero: who rebuilds it carries them over.
+  !> other ranks, and bytes copied between its own blocks (halo_refresh's copies left out).
+  !> A rebuilt plan starts from zero: who rebuilds it carries them over.
   type :: halo_counts_t
-    integer(i8) :: steps = 0, exchanges = 0, messages = 0, bytes = 0, copies = 0, &
-      copy_bytes = 0
+    integer(i8) :: steps = 0, exchanges = 0, messages = 0, bytes = 0, copy_bytes = 0
   end type halo_counts_t
 
   type :: halo_plan_t
@@ -276,7 +275,6 @@ contains
       end if
       if (mc > nvar) cycle
       call copy_piece(blocks, plan%copy(c), mc, nvar)
-      plan%counts%copies = plan%counts%copies + 1
       plan%counts%copy_bytes = plan%counts%copy_bytes + wp_bytes * (nvar - mc + 1) * &
         product(int(plan%copy(c)%hi - plan%copy(c)%lo + 1, i8))
     end do
