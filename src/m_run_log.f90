@@ -10,7 +10,7 @@ module m_run_log
   use m_errors, only: log_line
   use m_simulation, only: sim_t
   use m_memory, only: mem_parts, mem_text
-  use m_run_report, only: run_facts_t, run_facts, run_json_write, thermal_reason, &
+  use m_run_report, only: run_facts_t, run_facts, run_json_write, thermal_reason, halo_line, &
     interfaces_reason
   implicit none
   private
@@ -211,6 +211,7 @@ contains
     write(line, '(a,es11.4,a,f10.3,a)') 'loop: ', real(f%cell_steps, wp), ' cell-steps in ', &
       f%loop, ' s'
     call log_line(line)
+    call log_line(halo_line(f))
     write(line, '(a,f10.3,a,f10.3,a)') 'balance: work per rank (fluxes, ghost fill, ' // &
       'reinitialisation, dt) min ', f%work_min, ' s, max ', f%work_max, ' s'
     call log_line(line)

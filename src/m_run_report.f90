@@ -20,7 +20,8 @@ module m_run_report
   implicit none
   private
   public :: progress_t, progress_start, progress_report
-  public :: run_facts_t, run_facts, run_json_write, thermal_reason, interfaces_reason
+  public :: run_facts_t, run_facts, run_json_write, thermal_reason, interfaces_reason, &
+    halo_line
 
   !> seconds of wall time between progress lines
   real(wp), parameter :: progress_every = 30.0_wp
@@ -48,6 +49,12 @@ module m_run_report
     !> over all ranks; bytes per cell above that baseline; solver arrays per cell
     real(wp) :: peak = 0.0_wp, peak_rank = 0.0_wp, base = 0.0_wp, per_cell = 0.0_wp, &
       arrays_per_cell = 0.0_wp
+    !> the halo exchanges of the time loop (m_halo's counts): its steps, and of the largest
+    !> rank (1) and all ranks (2) the exchanges, the messages and bytes sent to other ranks,
+    !> the bytes copied between blocks of one rank
+    integer(i8) :: halo_steps = 0
+    integer(i8), dimension(2) :: halo_exchanges = 0, halo_messages = 0, halo_bytes = 0, &
+      halo_copy_bytes = 0
   end type run_facts_t
 
 contains
@@ -122,10 +129,19 @@ contains
   function seconds(x) result(r)
     real(wp), intent(in) :: x
     character(len=:), allocatable :: r
-    character(len=32) :: buf
-    write(buf, '(f12.1)') x
-    r = trim(adjustl(buf))
+    r = fixed(x, 1)
   end function seconds
+
+  !> x with digits decimals and a leading zero: 0.00, 11.60
+  function fixed(x, digits) result(r)
+    real(wp), intent(in) :: x
+    integer, intent(in) :: digits
+    character(len=:), allocatable :: r
+    character(len=32) :: buf, fmt
+    write(fmt, '(a,i0,a)') '(f24.', digits, ')'
+    write(buf, fmt) x
+    r = trim(adjustl(buf))
+  end function fixed
 
   !> run.log's reason for the thermal effect
   function thermal_reason(s) result(text)
@@ -217,7 +233,35 @@ contains
     f%per_cell = (f%peak - f%base) / cells
     f%arrays_per_cell = 8.0_wp * s%ph%nvar * (product(s%lay%bsize + 2 * s%lay%ng) &
       + 2 * product(s%lay%bsize)) / product(s%lay%bsize)
+    f%halo_steps = s%plan%counts%steps
+    f%halo_exchanges = max_and_sum(s%plan%counts%exchanges)
+    f%halo_messages = max_and_sum(s%plan%counts%messages)
+    f%halo_bytes = max_and_sum(s%plan%counts%bytes)
+    f%halo_copy_bytes = max_and_sum(s%plan%counts%copy_bytes)
+
+  contains
+
+    !> the largest rank's count and the sum over the ranks (a count up to 2^53 as a real)
+    function max_and_sum(n) result(both)
+      integer(i8), intent(in) :: n
+      integer(i8) :: both(2)
+      both = [int(comm_max(real(n, wp)), i8), comm_sum(n)]
+    end function max_and_sum
+
   end function run_facts
+
+  !> run.log's line of the halo counts: per step of the largest rank, and over the run
+  function halo_line(f) result(line)
+    type(run_facts_t), intent(in) :: f
+    character(len=line_len) :: line
+    real(wp) :: steps
+    steps = real(max(f%halo_steps, 1_i8), wp)
+    write(line, '(5a,i0,3a,i0,3a)') 'halo: ', fixed(f%halo_messages(1) / steps, 2), &
+      ' messages/step/rank (max), ', sci(f%halo_bytes(1) / steps, 3), &
+      ' bytes/step/rank (max); total ', f%halo_messages(2), ' messages, ', &
+      sci(real(f%halo_bytes(2), wp), 3), ' bytes over all ranks in ', f%halo_steps, &
+      ' steps; local copies ', sci(f%halo_copy_bytes(1) / steps, 3), ' bytes/step/rank (max)'
+  end function halo_line
 
   real(wp) function ieee_nan() result(x)
     use, intrinsic :: ieee_arithmetic, only: ieee_value, ieee_quiet_nan
@@ -254,6 +298,7 @@ contains
     call json_put(js, 'active_blocks', count(s%lay%active))
     call json_put(js, 'blocks_per_rank_min', f%blocks_min)
     call json_put(js, 'blocks_per_rank_max', f%blocks_max)
+    call json_put_array(js, 'block_rank', s%lay%owner)
     call json_close(js)
     call json_object(js, 'numerics')
     call json_put(js, 'scheme', s%cfg%scheme)
@@ -337,6 +382,7 @@ contains
     call json_put(js, 'work_max_seconds', f%work_max)
     call json_close(js)
     call balance_json(js)
+    call halo_json(js)
     call json_object(js, 'cost')
     call json_put(js, 'cell_steps', f%cell_steps)
     call json_put(js, 'cell_steps_per_second_per_rank', &
@@ -401,6 +447,26 @@ contains
       end if
       call json_close(jj)
     end subroutine balance_json
+
+    !> the halo counts of the time loop: per step of the largest rank, and the totals
+    subroutine halo_json(jj)
+      type(json_t), intent(inout) :: jj
+      real(wp) :: steps
+      steps = real(max(f%halo_steps, 1_i8), wp)
+      call json_object(jj, 'halo')
+      call json_put(jj, 'steps', f%halo_steps)
+      call json_put(jj, 'exchanges_per_step', f%halo_exchanges(1) / steps)
+      call json_put(jj, 'messages_per_step_max_rank', f%halo_messages(1) / steps)
+      call json_put(jj, 'bytes_per_step_max_rank', f%halo_bytes(1) / steps)
+      call json_put(jj, 'copy_bytes_per_step_max_rank', f%halo_copy_bytes(1) / steps)
+      call json_put(jj, 'messages_max_rank', f%halo_messages(1))
+      call json_put(jj, 'messages_all_ranks', f%halo_messages(2))
+      call json_put(jj, 'bytes_max_rank', f%halo_bytes(1))
+      call json_put(jj, 'bytes_all_ranks', f%halo_bytes(2))
+      call json_put(jj, 'copy_bytes_max_rank', f%halo_copy_bytes(1))
+      call json_put(jj, 'copy_bytes_all_ranks', f%halo_copy_bytes(2))
+      call json_close(jj)
+    end subroutine halo_json
 
     subroutine effect(jj, key, on, why)
       type(json_t), intent(inout) :: jj

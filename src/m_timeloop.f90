@@ -23,6 +23,7 @@ module m_timeloop
   use m_timers, only: timer_start, timer_stop
   use m_run_report, only: progress_t, progress_start, progress_report
   use m_rebalance, only: rebalance_check
+  use m_halo, only: halo_counts_t
   implicit none
   private
   public :: run_time_loop
@@ -60,6 +61,8 @@ contains
     end if
     worst_step = 0.0_wp
     call progress_start(sim, progress)
+    ! the halo counts of run.json are the loop's: per step, without the set-up's exchanges
+    sim%plan%counts = halo_counts_t()
     call sim_rate(sim, rate, ok)
     stop_bad = .not. ok
     do
@@ -94,6 +97,7 @@ contains
       end if
       sim%clk%time = sim%clk%time + sim%clk%dt
       sim%clk%step = sim%clk%step + 1
+      sim%plan%counts%steps = sim%plan%counts%steps + 1
       sim%diag%cell_steps = sim%diag%cell_steps + sum([(int(product(sim%blocks(b)%n), i8), &
         b = 1, size(sim%blocks))])
       worst_step = max(worst_step, comm_wtime() - t0)

@@ -7,15 +7,18 @@
 !> no piece carries a header. Regions with no neighbour block (domain
 !> boundary, rigid obstacle) are left to m_boundary. Blocks may differ in extent (the last
 !> block along a direction, m_layout): a box takes the extent of the block it lies in, and
-!> across a face the two blocks agree in every other direction.
+!> across a face the two blocks agree in every other direction. The plan also counts what
+!> the exchanges move (halo_counts_t: integer adds per message and per copy, no
+!> communication), for run.json and manual/scale.md.
 module m_halo
-  use m_kinds, only: wp
+  use m_kinds, only: wp, i8
   use m_layout, only: layout_t, block_neighbor, block_extent
   use m_blocks, only: block_t
   use m_comm, only: comm_rank, comm_exchange_t, exchange_setup, exchange_start, exchange_wait
   implicit none
   private
-  public :: halo_plan_t, halo_plan_build, halo_exchange, halo_refresh, halo_region
+  public :: halo_plan_t, halo_counts_t, halo_plan_build, halo_exchange, halo_refresh, &
+    halo_region
 
   !> One piece: a box of cells of a local block, and the box of its source block.
   type :: piece_t
@@ -32,6 +35,14 @@ module m_halo
     type(piece_t), allocatable :: send(:), recv(:)
   end type partner_t
 
+  !> What this rank's calls of halo_exchange moved since the counts were last reset (the
+  !> time loop resets them at its start and counts its steps): messages and bytes sent to
+  !> other ranks, and bytes copied between its own blocks (halo_refresh's copies left out).
+  !> A rebuilt plan starts from zero: who rebuilds it carries them over.
+  type :: halo_counts_t
+    integer(i8) :: steps = 0, exchanges = 0, messages = 0, bytes = 0, copy_bytes = 0
+  end type halo_counts_t
+
   type :: halo_plan_t
     integer :: ng(3) = 0         !< halo depth per direction (from the layout)
     integer :: ncopy = 0
@@ -40,6 +51,7 @@ module m_halo
     type(partner_t), allocatable :: partner(:)
     real(wp), allocatable :: sendbuf(:, :), recvbuf(:, :)
     type(comm_exchange_t) :: ex
+    type(halo_counts_t) :: counts
   end type halo_plan_t
 
 contains
@@ -229,6 +241,7 @@ contains
     logical, intent(in), optional :: skip(:)
     integer, intent(in), optional :: keep
     integer :: r, c, m1, nv, mc
+    integer(i8), parameter :: wp_bytes = storage_size(1.0_wp) / 8
     integer, allocatable :: scount(:), rcount(:), ranks(:)
     m1 = 1
     if (present(first)) m1 = first
@@ -249,6 +262,9 @@ contains
     end do
     if (plan%npartner > 0) call exchange_start(plan%ex, ranks, plan%sendbuf, scount, &
       plan%recvbuf, rcount)
+    plan%counts%exchanges = plan%counts%exchanges + 1
+    plan%counts%messages = plan%counts%messages + count(scount > 0)
+    plan%counts%bytes = plan%counts%bytes + wp_bytes * sum(int(scount, i8))
     do c = 1, plan%ncopy
       mc = m1
       if (present(skip)) then
@@ -257,7 +273,10 @@ contains
           if (present(keep)) mc = max(m1, keep)
         end if
       end if
-      if (mc <= nvar) call copy_piece(blocks, plan%copy(c), mc, nvar)
+      if (mc > nvar) cycle
+      call copy_piece(blocks, plan%copy(c), mc, nvar)
+      plan%counts%copy_bytes = plan%counts%copy_bytes + wp_bytes * (nvar - mc + 1) * &
+        product(int(plan%copy(c)%hi - plan%copy(c)%lo + 1, i8))
     end do
     if (plan%npartner > 0) call exchange_wait(plan%ex, plan%recvbuf)
     do r = 1, plan%npartner

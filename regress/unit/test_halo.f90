@@ -6,14 +6,15 @@
 !> that source cell, for every variable. A second exchange of new values skips every other
 !> block for variables 1-2 (halo_exchange's skip and keep): those keep the old values where
 !> the source block is on this rank, take the new ones from other ranks and in variable 3;
-!> halo_refresh then brings the skipped blocks up to date.
+!> halo_refresh then brings the skipped blocks up to date. The plan's counts of messages,
+!> bytes sent and bytes copied on the rank agree with a hand count (count_case).
 program test_halo
   use m_kinds, only: wp
   use m_layout, only: layout_t, layout_init, block_neighbor
   use m_blocks, only: block_t, blocks_allocate
   use m_halo, only: halo_plan_t, halo_plan_build, halo_exchange, halo_refresh
   use m_partition, only: partition_blocks
-  use m_comm, only: comm_init, comm_rank, comm_sum
+  use m_comm, only: comm_init, comm_rank, comm_size, comm_sum
   use m_kinds, only: i8
   use m_test_check, only: check_start, check, check_done
   implicit none
@@ -27,6 +28,7 @@ program test_halo
   ! than the halo joined to the last block (10, 5 cells), with periodic wrap across them
   call run_case(2, [30, 26, 1], [8, 8, 1], [.true., .false., .false.], 0)
   call run_case(3, [18, 13, 12], [8, 4, 4], [.true., .true., .false.], 3)
+  call count_case()
   call check_done()
 
 contains
@@ -71,6 +73,54 @@ contains
     skip = .false.
     call check_halos(lay, blocks, skip, 0.5_wp)
   end subroutine run_case
+
+  !> The plan's counts (halo_counts_t) against a hand count. 4 x 2 x 2 blocks of 8^3 cells,
+  !> no periodic side, cut into slabs along x: block column ib (0-3) on rank ib P / 4 of P
+  !> ranks. Across a cut between two ranks each of the 4 blocks of a column sends the block
+  !> beside it a face (8 x 8 x 4 cells), two edges (8 x 4 x 4) and a corner (4^3): 576
+  !> cells a variable, so a rank sends one message of 2304 cells a variable for each cut it
+  !> touches. The rest of the halo with a neighbour block is copied on the rank: of a block
+  !> in a column with columns on both sides (4 + 8 + 4) (8 + 4)^2 - 8^3 = 1792 cells, at an
+  !> end of x (8 + 4)^3 - 8^3 = 1216, less 576 for each side whose column is on another rank.
+  subroutine count_case()
+    integer, parameter :: wp_bytes = storage_size(1.0_wp) / 8
+    type(layout_t) :: lay
+    type(block_t), allocatable :: blocks(:)
+    type(halo_plan_t) :: plan
+    integer :: id, ib, np, me, cuts, copy_cells, foreign
+    integer :: column_rank(0:3)
+    character(len=80) :: text
+    real(wp), parameter :: lo(3) = 0.0_wp, hi(3) = 1.0_wp
+    np = comm_size()
+    me = comm_rank()
+    call layout_init(lay, 3, [32, 16, 16], [8, 8, 8], lo, hi, [.false., .false., .false.], &
+      .false.)
+    column_rank = [(ib * np / 4, ib = 0, 3)]
+    lay%owner = [(column_rank(mod(id - 1, 4)), id = 1, lay%nblocks)]
+    call blocks_allocate(lay, me, 3, blocks)
+    call halo_plan_build(lay, blocks, plan)
+    cuts = 0
+    copy_cells = 0
+    do ib = 1, 3
+      if (column_rank(ib - 1) /= column_rank(ib) .and. &
+        (column_rank(ib - 1) == me .or. column_rank(ib) == me)) cuts = cuts + 1
+    end do
+    do ib = 0, 3
+      if (column_rank(ib) /= me) cycle
+      foreign = count(column_rank(max(ib - 1, 0):min(ib + 1, 3)) /= me)
+      copy_cells = copy_cells + 4 * (merge(1216, 1792, ib == 0 .or. ib == 3) - 576 * foreign)
+    end do
+    call halo_exchange(plan, blocks, 3)
+    call halo_exchange(plan, blocks, 3, first=3)
+    write(text, '(a,i0,a,i0,a)') 'counts on rank ', me, ' of ', np, ' (slabs of 4 x 2 x 2 blocks)'
+    call check(trim(text) // ': exchanges', plan%counts%exchanges == 2)
+    call check(trim(text) // ': one message per cut and exchange', &
+      plan%counts%messages == 2 * cuts)
+    call check(trim(text) // ': bytes sent', &
+      plan%counts%bytes == int(wp_bytes * 2304 * cuts * (3 + 1), i8))
+    call check(trim(text) // ': bytes copied on the rank', &
+      plan%counts%copy_bytes == int(wp_bytes * copy_cells * (3 + 1), i8))
+  end subroutine count_case
 
   subroutine fill_interior(blocks, shift)
     type(block_t), intent(inout) :: blocks(:)
