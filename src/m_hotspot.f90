@@ -16,9 +16,12 @@ module m_hotspot
   use m_kinds, only: wp, i8, name_len
   use m_comm, only: comm_sum_array
   use m_json, only: json_t, json_object, json_close, json_put, json_put_array
+  use m_config, only: config_t, is_set, material_index
+  use m_levelset_bodies, only: ls_set_t, ls_void
+  use m_text, only: int_text
   implicit none
   private
-  public :: hot_t, hot_setup, hot_columns, hot_row_start, hot_block, hot_cell, hot_row
+  public :: hot_t, hot_start, hot_setup, hot_columns, hot_row_start, hot_block, hot_cell, hot_row
   public :: hot_count, hot_nearest
   public :: hot_json, hot_pack, hot_unpack
 
@@ -65,6 +68,58 @@ module m_hotspot
   end type hot_t
 
 contains
+
+  !> The hot-spot diagnostics (m_hotspot): on when a material in use has a temperature (cv);
+  !> the void bodies with their centres and sizes (a box's half diagonal, a half space none),
+  !> each sphere of a random_spheres body on its own (name.k).
+  subroutine hot_start(hot, cfg, ls, phase_material, ndim, nblocks)
+    type(hot_t), intent(out) :: hot
+    type(config_t), intent(in) :: cfg
+    type(ls_set_t), intent(in) :: ls
+    character(len=*), intent(in) :: phase_material(:)
+    integer, intent(in) :: ndim, nblocks
+    integer :: l, k
+    integer, allocatable :: lv(:), ls_of(:)
+    real(wp), allocatable :: centres(:, :), radii(:)
+    character(len=name_len), allocatable :: names(:)
+    logical :: has_t
+    has_t = .false.
+    do k = 1, size(phase_material)
+      has_t = has_t .or. is_set(cfg%materials(material_index(cfg, phase_material(k)))%cv)
+    end do
+    allocate(lv(0))
+    if (ls%n > 0) lv = pack([(l, l = 1, ls%n)], ls%kind == ls_void)
+    ! one entry per void body, but one per sphere of a random_spheres body (all on its level
+    ! set: m_hotspot gives each cell to the nearest sphere)
+    allocate(ls_of(0), names(0), centres(3, 0), radii(0))
+    do k = 1, size(lv)
+      associate (body => cfg%bodies(ls%body(lv(k))))
+        if (body%shape == 'random_spheres' .and. allocated(body%spheres)) then
+          do l = 1, size(body%spheres, 2)
+            call add(trim(body%name) // '.' // int_text(l), body%spheres(1:3, l), &
+              body%spheres(4, l))
+          end do
+        else if (any(body%shape == [character(len=name_len) :: 'box', 'random_field'])) then
+          call add(body%name, 0.5_wp * (body%lo + body%hi), &
+            0.5_wp * norm2(body%hi(1:ndim) - body%lo(1:ndim)))
+        else
+          call add(body%name, body%center, body%radius)
+        end if
+      end associate
+    end do
+    call hot_setup(hot, has_t, ndim, cfg%hot_thresholds, names, ls_of, centres, radii, nblocks)
+
+  contains
+
+    subroutine add(name, centre, radius)
+      character(len=*), intent(in) :: name
+      real(wp), intent(in) :: centre(3), radius
+      names = [character(len=name_len) :: names, name]
+      ls_of = [ls_of, lv(k)]
+      centres = reshape([centres, centre], [3, size(centres, 2) + 1])
+      radii = [radii, radius]
+    end subroutine add
+  end subroutine hot_start
 
   !> thresholds: the deck's (K, ascending; those <= 0 left out); names, centres and radii of
   !> the void bodies with their level-set numbers; nblocks: the blocks of the grid.

@@ -35,7 +35,7 @@ module m_simulation
   use m_comm, only: comm_rank, comm_any, comm_max
   use m_errors, only: stop_collective
   use m_text, only: base_name, int_text
-  use m_hotspot, only: hot_t, hot_setup
+  use m_hotspot, only: hot_t, hot_start
   use m_reaction, only: reaction_from_name, reaction_none
   use m_conduction, only: conduction_rate
   implicit none
@@ -172,7 +172,7 @@ contains
         call fix_setup(sim%fix, sim%ph, sim%ls, cfg%conserve, size(sim%blocks))
       end if
     end if
-    call hot_start(sim)
+    call hot_start(sim%hot, sim%cfg, sim%ls, sim%ph%material, sim%lay%ndim, sim%lay%nblocks)
     sim%num%scheme = scheme_from_name(cfg%scheme)
     sim%num%variables = variables_from_name(cfg%variables)
     sim%num%flux = flux_from_name(cfg%flux)
@@ -517,56 +517,6 @@ contains
     rate = comm_max(rate)
     if (.not. rate > 0.0_wp) rate = tiny(1.0_wp)
   end subroutine sim_rate
-
-  !> The hot-spot diagnostics (m_hotspot): on when a material in use has a temperature (cv);
-  !> the void bodies with their centres and sizes (a box's half diagonal, a half space none),
-  !> each sphere of a random_spheres body on its own (name.k).
-  subroutine hot_start(sim)
-    type(sim_t), intent(inout) :: sim
-    integer :: l, k
-    integer, allocatable :: lv(:), ls_of(:)
-    real(wp), allocatable :: centres(:, :), radii(:)
-    character(len=name_len), allocatable :: names(:)
-    logical :: has_t
-    has_t = .false.
-    do k = 1, sim%ph%nphase
-      has_t = has_t .or. is_set(sim%cfg%materials(material_index(sim%cfg, &
-        sim%ph%material(k)))%cv)
-    end do
-    allocate(lv(0))
-    if (sim%ls%n > 0) lv = pack([(l, l = 1, sim%ls%n)], sim%ls%kind == ls_void)
-    ! one entry per void body, but one per sphere of a random_spheres body (all on its level
-    ! set: m_hotspot gives each cell to the nearest sphere)
-    allocate(ls_of(0), names(0), centres(3, 0), radii(0))
-    do k = 1, size(lv)
-      associate (body => sim%cfg%bodies(sim%ls%body(lv(k))))
-        if (body%shape == 'random_spheres' .and. allocated(body%spheres)) then
-          do l = 1, size(body%spheres, 2)
-            call add(trim(body%name) // '.' // int_text(l), body%spheres(1:3, l), &
-              body%spheres(4, l))
-          end do
-        else if (any(body%shape == [character(len=name_len) :: 'box', 'random_field'])) then
-          call add(body%name, 0.5_wp * (body%lo + body%hi), &
-            0.5_wp * norm2(body%hi(1:sim%lay%ndim) - body%lo(1:sim%lay%ndim)))
-        else
-          call add(body%name, body%center, body%radius)
-        end if
-      end associate
-    end do
-    call hot_setup(sim%hot, has_t, sim%lay%ndim, sim%cfg%hot_thresholds, names, ls_of, &
-      centres, radii, sim%lay%nblocks)
-
-  contains
-
-    subroutine add(name, centre, radius)
-      character(len=*), intent(in) :: name
-      real(wp), intent(in) :: centre(3), radius
-      names = [character(len=name_len) :: names, name]
-      ls_of = [ls_of, lv(k)]
-      centres = reshape([centres, centre], [3, size(centres, 2) + 1])
-      radii = [radii, radius]
-    end subroutine add
-  end subroutine hot_start
 
   !> The first partition's block weights (the measured work takes over at the balance
   !> checks, m_balance): a block's cells, or 1 for a block that starts dormant by m_gfm's

@@ -131,19 +131,27 @@ contains
 
   contains
 
-    !> grain a's distance by the bisector planes with its near seeds, clipped by the box
+    !> grain a's distance by the bisector planes with its near seeds, clipped by the box;
+    !> left as soon as it reaches d (it cannot lower d then), the plane with the nearest
+    !> seed first (for a grain other than the nearest seed's it mostly ends there)
     pure real(wp) function own(ia)
       integer, intent(in) :: ia
-      integer :: mm, j
-      real(wp) :: e
+      integer :: mm
       own = box
+      if (ia /= n0) own = max(own, plane(ia, n0))
       do mm = gr%first(ia), gr%first(ia + 1) - 1
-        j = gr%near(mm)
-        e = norm2(gr%seed(1:ndim, ia) - gr%seed(1:ndim, j))
-        own = max(own, (sum((x(1:ndim) - gr%seed(1:ndim, ia))**2) &
-          - sum((x(1:ndim) - gr%seed(1:ndim, j))**2)) / (2.0_wp * e) + 0.5_wp * gr%thickness)
+        if (own >= d) return
+        own = max(own, plane(ia, gr%near(mm)))
       end do
     end function own
+
+    !> the signed distance from x to the bisector of seeds i and j, moved by half the binder
+    pure real(wp) function plane(i, j)
+      integer, intent(in) :: i, j
+      plane = (sum((x(1:ndim) - gr%seed(1:ndim, i))**2) - sum((x(1:ndim) &
+        - gr%seed(1:ndim, j))**2)) / (2.0_wp * norm2(gr%seed(1:ndim, i) - gr%seed(1:ndim, j))) &
+        + 0.5_wp * gr%thickness
+    end function plane
 
   end function grains_distance
 
