@@ -21,7 +21,7 @@ module m_rebalance
   use m_simulation, only: sim_t
   use m_blocks, only: block_t, blocks_allocate
   use m_euler, only: cut_faces_t
-  use m_halo, only: halo_plan_build, halo_counts_t
+  use m_halo, only: halo_plan_build
   use m_partition, only: partition_owner
   use m_balance, only: balance_imbalance, balance_loads, balance_rank_work, balance_weights, &
     balance_relabel, balance_start, balance_note, balance_note_move, balance_gain
@@ -122,7 +122,6 @@ contains
       scount(:), rcount(:)
     real(wp), allocatable :: sendbuf(:, :), recvbuf(:, :)
     type(comm_exchange_t) :: ex
-    type(halo_counts_t) :: counts
     integer :: me, np, id, b, m, p, k, nrounds, capacity
     me = comm_rank()
     np = comm_size()
@@ -184,10 +183,7 @@ contains
           recvbuf(:, m))
       end do
     end do
-    ! the run's halo counts go on with the new plan
-    counts = sim%plan%counts
     call halo_plan_build(sim%lay, sim%blocks, sim%plan)
-    sim%plan%counts = counts
   end subroutine migrate
 
   !> This rank's blocks and their per-block parts, taken out of sim.

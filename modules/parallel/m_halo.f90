@@ -38,7 +38,7 @@ module m_halo
   !> What this rank's calls of halo_exchange moved since the counts were last reset (the
   !> time loop resets them at its start and counts its steps): messages and bytes sent to
   !> other ranks, and bytes copied between its own blocks (halo_refresh's copies left out).
-  !> A rebuilt plan starts from zero: who rebuilds it carries them over.
+  !> A plan built again (halo_plan_build after a migration) keeps them.
   type :: halo_counts_t
     integer(i8) :: steps = 0, exchanges = 0, messages = 0, bytes = 0, copy_bytes = 0
   end type halo_counts_t
@@ -87,13 +87,18 @@ contains
     end do
   end subroutine halo_region
 
+  !> The plan of this rank's blocks; a plan built again (blocks migrated) keeps its counts.
   subroutine halo_plan_build(lay, blocks, plan)
     type(layout_t), intent(in) :: lay
     type(block_t), intent(in) :: blocks(:)
-    type(halo_plan_t), intent(out) :: plan
+    type(halo_plan_t), intent(inout) :: plan
     integer :: me, b, nbr, dir(3), di, dj, dk, p, r, k, kdir, nb, maxs, maxr, nvq
     integer, allocatable :: local_of(:), pindex(:), ranks(:), capacity(:)
     type(piece_t) :: pc
+    type(halo_counts_t) :: counts
+    counts = plan%counts
+    call plan_clear(plan)
+    plan%counts = counts
     me = comm_rank()
     nb = size(blocks)
     plan%ng = lay%ng
@@ -209,6 +214,12 @@ contains
     end subroutine each_direction
 
   end subroutine halo_plan_build
+
+  !> plan back to an empty plan (its defaults; allocatable parts freed)
+  subroutine plan_clear(plan)
+    type(halo_plan_t), intent(out) :: plan
+    plan%ncopy = 0
+  end subroutine plan_clear
 
   !> Insertion sort by (key1, key2): the lists are short (tens of pieces).
   subroutine sort_pieces(list)

@@ -175,10 +175,6 @@ contains
         case ('grains')
           call make_grains(ndim, body%lo, body%hi, body%seed, body%count, &
             body%volume_fraction, g, body%grains, body%generated_fraction, why)
-          ! a grain's level set is held at cap beyond it: the band must fit inside
-          if (len(why) == 0 .and. body%grains%cap < g) why = 'the grains are too small ' &
-            // 'for the mesh: their spacing must exceed the ghost band (band cells); ' &
-            // 'refine the mesh or give fewer grains'
         case default
           cycle
         end select

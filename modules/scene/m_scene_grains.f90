@@ -38,6 +38,12 @@ contains
     why = ''
     achieved = 0.0_wp
     s0 = (product(hi(1:ndim) - lo(1:ndim)) / count)**(1.0_wp / ndim)
+    ! a grain's level set is held at cap = s0 beyond it: the ghost band must fit inside
+    if (s0 < g) then
+      why = 'the grains are too small for the mesh: their spacing must exceed the ghost ' &
+        // 'band (band cells); refine the mesh or give fewer grains'
+      return
+    end if
     call random_points(ndim, lo, hi, seed, count, 0.6_wp * s0, c, ok)
     if (.not. ok) then
       why = 'the seeds of the grains found no place (lower count)'
@@ -49,32 +55,7 @@ contains
     allocate(gr%colour(count))
     call colour_graph(conflict, gr%colour, gr%ncolour)
     gr%seed = c
-    ! the farthest a point of the box lies from its nearest seed (on the raster, plus its
-    ! half diagonal): seeds farther than reach from a point's nearest seed hold their
-    ! grains at least s0 from the point, so they need not be looked at
-    n = 1
-    n(1:ndim) = max(1, nint((hi(1:ndim) - lo(1:ndim)) / (0.1_wp * s0)))
-    rmax = 0.0_wp
-    nin = 0
-    do k = 1, n(3)
-      do j = 1, n(2)
-        do i = 1, n(1)
-          x = raster_point(lo, hi, n, i, j, k)
-          rmax = max(rmax, minval([(norm2(x(1:ndim) - c(1:ndim, a)), a = 1, count)]))
-        end do
-      end do
-    end do
-    rmax = rmax + 0.5_wp * norm2((hi(1:ndim) - lo(1:ndim)) / n(1:ndim))
-    reach = 2.0_wp * rmax + 2.0_wp * s0
     gr%cap = s0
-    allocate(gr%first(count + 1))
-    gr%first(1) = 1
-    allocate(gr%near(0))
-    do a = 1, count
-      gr%near = [gr%near, pack([(j, j = 1, count)], [(j /= a .and. &
-        norm2(c(1:ndim, j) - c(1:ndim, a)) < reach, j = 1, count)])]
-      gr%first(a + 1) = size(gr%near) + 1
-    end do
     ! bins of side s0 over the box, each seed in the bin of its position
     gr%bin = s0
     gr%nbin = 1
@@ -82,9 +63,33 @@ contains
     allocate(gr%head(product(gr%nbin)), gr%next(count))
     gr%head = 0
     do a = count, 1, -1
-      k = bin_index(gr, lo, c(:, a))
+      k = bin_number(gr, bin_of(gr, ndim, lo, c(:, a)))
       gr%next(a) = gr%head(k)
       gr%head(k) = a
+    end do
+    ! the farthest a point of the box lies from its nearest seed (on the raster, plus its
+    ! half diagonal): seeds farther than reach from a point's nearest seed hold their
+    ! grains at least s0 from the point, so they need not be looked at
+    n = 1
+    n(1:ndim) = max(1, nint((hi(1:ndim) - lo(1:ndim)) / (0.1_wp * s0)))
+    rmax = 0.0_wp
+    do k = 1, n(3)
+      do j = 1, n(2)
+        do i = 1, n(1)
+          x = raster_point(lo, hi, n, i, j, k)
+          rmax = max(rmax, norm2(x(1:ndim) - c(1:ndim, nearest_seed(gr, ndim, lo, x))))
+        end do
+      end do
+    end do
+    rmax = rmax + 0.5_wp * norm2((hi(1:ndim) - lo(1:ndim)) / n(1:ndim))
+    reach = 2.0_wp * rmax + 2.0_wp * s0
+    allocate(gr%first(count + 1))
+    gr%first(1) = 1
+    allocate(gr%near(0))
+    do a = 1, count
+      gr%near = [gr%near, pack([(j, j = 1, count)], [(j /= a .and. &
+        norm2(c(1:ndim, j) - c(1:ndim, a)) < reach, j = 1, count)])]
+      gr%first(a + 1) = size(gr%near) + 1
     end do
     nin = 0
     do k = 1, n(3)
@@ -98,15 +103,23 @@ contains
     achieved = real(nin, wp) / product(n)
   end subroutine make_grains
 
-  !> The bin (1-based, x fastest) of the point x in the grains' bins over the box from lo.
-  pure integer function bin_index(gr, lo, x) result(k)
+  !> The bin (i, j, k) of the point x in the grains' bins over the box from lo (a point
+  !> outside the box: the nearest bin).
+  pure function bin_of(gr, ndim, lo, x) result(ib)
     type(grains_t), intent(in) :: gr
+    integer, intent(in) :: ndim
     real(wp), intent(in) :: lo(3), x(3)
     integer :: ib(3)
-    ib = min(gr%nbin, max(1, 1 + int((x - lo) / gr%bin)))
-    where (gr%nbin == 1) ib = 1
+    ib = 1
+    ib(1:ndim) = min(gr%nbin(1:ndim), max(1, 1 + int((x(1:ndim) - lo(1:ndim)) / gr%bin)))
+  end function bin_of
+
+  !> The number (1-based, x fastest) of bin ib.
+  pure integer function bin_number(gr, ib) result(k)
+    type(grains_t), intent(in) :: gr
+    integer, intent(in) :: ib(3)
     k = ib(1) + gr%nbin(1) * (ib(2) - 1 + gr%nbin(2) * (ib(3) - 1))
-  end function bin_index
+  end function bin_number
 
   !> The level set of the grains of colour `colour` (0: of every grain) at x: the signed
   !> distance of grain_distance to the nearest of them, exact inside a grain and near it,
@@ -163,8 +176,7 @@ contains
     real(wp), intent(in) :: lo(3), x(3)
     integer :: ib(3), r, i, j, k, s, lim(3)
     real(wp) :: dbest, dd
-    ib = 1
-    ib(1:ndim) = min(gr%nbin(1:ndim), max(1, 1 + int((x(1:ndim) - lo(1:ndim)) / gr%bin)))
+    ib = bin_of(gr, ndim, lo, x)
     best = 1
     dbest = huge(1.0_wp)
     lim = 0
@@ -176,7 +188,7 @@ contains
             ! the ring only: a bin of the inner rings was visited before
             if (maxval(abs([i, j, k] - ib)) /= r) cycle
             if (any([i, j, k] < 1) .or. any([i, j, k] > gr%nbin)) cycle
-            s = gr%head(i + gr%nbin(1) * (j - 1 + gr%nbin(2) * (k - 1)))
+            s = gr%head(bin_number(gr, [i, j, k]))
             do while (s > 0)
               dd = norm2(x(1:ndim) - gr%seed(1:ndim, s))
               if (dd < dbest) then
