@@ -5,11 +5,17 @@
 !>   on every block: the phases' right-hand sides, the level sets' rates, the stage update,
 !>   the phases' corrections, and the cell-local fallback   m_gfm_stage, m_levelset_motion,
 !>                                                          m_euler, m_fallback
+!> With &run overlap on a deck without level sets, where the flow ghosts are the only ghost
+!> step, the fill is split in two (fill_ghosts' part) and the blocks that take
+!> nothing from other ranks are computed while the halo messages travel, the others after
+!> them: a block's stage reads its own cells and halo alone, so the order of the blocks
+!> changes no result (DESIGN section 5).
 !> The numerics live in the modules named; this strings them together.
 module m_step
-  use m_kinds, only: wp, i8
+  use m_kinds, only: wp, i8, line_len
   use m_simulation, only: sim_t, sim_block_work
-  use m_boundary, only: fill_ghosts, ghosts_all, ghosts_flow, boundary_walls
+  use m_boundary, only: fill_ghosts, ghosts_all, ghosts_flow, boundary_walls, ghosts_start, &
+    ghosts_finish
   use m_runge_kutta, only: rk_stage_update
   use m_fallback, only: find_trouble
   use m_levelset_motion, only: levelset_rates
@@ -20,7 +26,7 @@ module m_step
   use m_phase_heat, only: phase_heat
   implicit none
   private
-  public :: advance
+  public :: advance, overlap_line
 
   !> the time of each stage within the step, in units of dt, for RK orders 1, 2 and 3
   real(wp), parameter :: stage_time(3, 3) = reshape([0.0_wp, 0.0_wp, 0.0_wp, &
@@ -33,9 +39,9 @@ contains
   !> recomputes it at first order (m_fallback).
   subroutine advance(sim)
     type(sim_t), intent(inout) :: sim
-    integer :: stage, b, nbad, nf
-    logical :: edge, failed, wall(2, 3)
-    real(wp) :: t, vwall(2, 3), t_block(2)
+    integer :: stage, b, nf
+    logical :: failed
+    real(wp) :: t
     nf = 0
     failed = .false.
     sim%diag%step_failed = .false.
@@ -45,55 +51,34 @@ contains
     end if
     do stage = 1, sim%cfg%rk_order
       t = sim%clk%time + stage_time(stage, sim%cfg%rk_order) * sim%clk%dt
-      call timer_start(sim%timers, 'halo')
-      call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_all, t, &
-        sim%gf%dormant)
-      call timer_stop(sim%timers, 'halo')
-      if (sim%ls%n > 0) then
-        call timer_start(sim%timers, 'gfm')
-        call ghost_fluid_fill(sim%gf, sim%cut, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, &
-          sim%cfg%bodies, sim%blocks, t, stage, sim%clk%dt, sim%cfg%thermal, failed)
-        call timer_stop(sim%timers, 'gfm')
+      if (sim%cfg%overlap .and. sim%ls%n == 0) then
         call timer_start(sim%timers, 'halo')
-        call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_flow, t, &
+        call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_all, t, &
+          sim%gf%dormant, part=ghosts_start)
+        call timer_stop(sim%timers, 'halo')
+        call stage_blocks(sim, stage, t, .not. sim%plan%remote, nf, failed)
+        call timer_start(sim%timers, 'halo')
+        call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_all, t, &
+          sim%gf%dormant, part=ghosts_finish)
+        call timer_stop(sim%timers, 'halo')
+        if (.not. failed) call stage_blocks(sim, stage, t, sim%plan%remote, nf, failed)
+      else
+        call timer_start(sim%timers, 'halo')
+        call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_all, t, &
           sim%gf%dormant)
         call timer_stop(sim%timers, 'halo')
+        if (sim%ls%n > 0) then
+          call timer_start(sim%timers, 'gfm')
+          call ghost_fluid_fill(sim%gf, sim%cut, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, &
+            sim%cfg%bodies, sim%blocks, t, stage, sim%clk%dt, sim%cfg%thermal, failed)
+          call timer_stop(sim%timers, 'gfm')
+          call timer_start(sim%timers, 'halo')
+          call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_flow, t, &
+            sim%gf%dormant)
+          call timer_stop(sim%timers, 'halo')
+        end if
+        call stage_blocks(sim, stage, t, [(.true., b = 1, size(sim%blocks))], nf, failed)
       end if
-      call timer_start(sim%timers, 'fluxes')
-      do b = 1, size(sim%blocks)
-        call sim_block_work(sim, b)
-        associate (blk => sim%blocks(b), n => sim%blocks(b)%n)
-          ! a block of void or rigid interior far from every surface holds a rest state
-          ! that nothing changes: no fluxes (DESIGN: void costs nothing)
-          if (sim%gf%dormant(b)) then
-            if (stage == 1) blk%q0 = blk%q(1:n(1), 1:n(2), 1:n(3), :)
-            cycle
-          end if
-          t_block = balance_now()
-          call boundary_walls(sim%lay, sim%bc, blk, t, wall, vwall)
-          ! the stage input, for the cell-local fallback (at stage 1 it is q0, kept anyway)
-          if (stage > 1) sim%wk%qsave = blk%q(1:n(1), 1:n(2), 1:n(3), :)
-          call block_stage(sim, b, stage, wall, vwall, nf, failed)
-          if (failed) exit
-          ! the cell-local fallback: the stage again with every face of the cells it left
-          ! inadmissible at first order (one on a side shared with another block is left
-          ! to the step fallback)
-          call find_trouble(sim%lay, sim%ph, blk, sim%wk%trouble, nbad, edge, sim%cut%p)
-          if (nbad > 0 .and. .not. edge) then
-            if (stage > 1) then
-              blk%q(1:n(1), 1:n(2), 1:n(3), :) = sim%wk%qsave
-            else
-              blk%q(1:n(1), 1:n(2), 1:n(3), :) = blk%q0
-            end if
-            call block_stage(sim, b, stage, wall, vwall, nf, failed, sim%wk%trouble)
-            if (failed) exit
-            sim%diag%cells_low = sim%diag%cells_low + nbad
-          end if
-          ! the block's work, for the load balance (m_balance)
-          call balance_add(sim%bal, b, t_block)
-        end associate
-      end do
-      call timer_stop(sim%timers, 'fluxes')
       sim%diag%step_failed = comm_any(failed)
       if (sim%diag%step_failed) exit
     end do
@@ -111,6 +96,70 @@ contains
     sim%diag%fallback_faces = sim%diag%fallback_faces + int(nf, i8)
     sim%diag%fallback_step = comm_sum(int(nf, i8))
   end subroutine advance
+
+  !> run.log's line on &run overlap (collective): the blocks that are computed while the
+  !> halo messages travel, over all ranks; none on a deck with level sets.
+  function overlap_line(sim) result(line)
+    type(sim_t), intent(in) :: sim
+    character(len=line_len) :: line
+    integer(i8) :: nb, nl
+    nb = comm_sum(int(size(sim%blocks), i8))
+    nl = comm_sum(int(count(.not. sim%plan%remote), i8))
+    if (sim%ls%n > 0) nl = 0
+    write(line, '(a, i0, a, i0, a)') 'overlap: ', nl, ' of ', nb, &
+      ' blocks computed while the halo messages travel (none with level sets: DESIGN 5)'
+  end function overlap_line
+
+  !> One RK stage on the blocks b with which(b) set, in order, their ghosts filled: each
+  !> its stage and its cell-local fallback. failed: a stage left a cell with no admissible
+  !> state (the blocks after it are left undone: the step is redone).
+  subroutine stage_blocks(sim, stage, t, which, nf, failed)
+    type(sim_t), intent(inout) :: sim
+    integer, intent(in) :: stage
+    real(wp), intent(in) :: t
+    logical, intent(in) :: which(:)
+    integer, intent(inout) :: nf
+    logical, intent(inout) :: failed
+    integer :: b, nbad
+    logical :: edge, wall(2, 3)
+    real(wp) :: vwall(2, 3), t_block(2)
+    call timer_start(sim%timers, 'fluxes')
+    do b = 1, size(sim%blocks)
+      if (.not. which(b)) cycle
+      call sim_block_work(sim, b)
+      associate (blk => sim%blocks(b), n => sim%blocks(b)%n)
+        ! a block of void or rigid interior far from every surface holds a rest state
+        ! that nothing changes: no fluxes (DESIGN: void costs nothing)
+        if (sim%gf%dormant(b)) then
+          if (stage == 1) blk%q0 = blk%q(1:n(1), 1:n(2), 1:n(3), :)
+          cycle
+        end if
+        t_block = balance_now()
+        call boundary_walls(sim%lay, sim%bc, blk, t, wall, vwall)
+        ! the stage input, for the cell-local fallback (at stage 1 it is q0, kept anyway)
+        if (stage > 1) sim%wk%qsave = blk%q(1:n(1), 1:n(2), 1:n(3), :)
+        call block_stage(sim, b, stage, wall, vwall, nf, failed)
+        if (failed) exit
+        ! the cell-local fallback: the stage again with every face of the cells it left
+        ! inadmissible at first order (one on a side shared with another block is left
+        ! to the step fallback)
+        call find_trouble(sim%lay, sim%ph, blk, sim%wk%trouble, nbad, edge, sim%cut%p)
+        if (nbad > 0 .and. .not. edge) then
+          if (stage > 1) then
+            blk%q(1:n(1), 1:n(2), 1:n(3), :) = sim%wk%qsave
+          else
+            blk%q(1:n(1), 1:n(2), 1:n(3), :) = blk%q0
+          end if
+          call block_stage(sim, b, stage, wall, vwall, nf, failed, sim%wk%trouble)
+          if (failed) exit
+          sim%diag%cells_low = sim%diag%cells_low + nbad
+        end if
+        ! the block's work, for the load balance (m_balance)
+        call balance_add(sim%bal, b, t_block)
+      end associate
+    end do
+    call timer_stop(sim%timers, 'fluxes')
+  end subroutine stage_blocks
 
   !> One RK stage on block b: the right-hand sides of every phase (the faces of the trouble
   !> cells at first order when the mask is given) and of the level sets, the stage update,

@@ -75,6 +75,7 @@ module m_config
     logical :: overwrite = .false.
     real(wp) :: rebalance_threshold = 1.1_wp   ! max over mean of the ranks' work; 0: never
     integer :: rebalance_every = 100
+    logical :: overlap = .false.   ! halo messages in flight while blocks are computed (m_step)
     ! &domain
     integer :: ndim = 0, cells(3) = 1, block(3) = 0   ! block 0: chosen (m_deck_check)
     character(len=name_len) :: geometry = 'cartesian', base_material = ''

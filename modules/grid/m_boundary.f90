@@ -13,12 +13,13 @@ module m_boundary
   use m_layout, only: layout_t, block_neighbor, wall_neighbor
   use m_blocks, only: block_t
   use m_state, only: i_rho, i_mx, i_en, n_solid, stress_index
-  use m_halo, only: halo_plan_t, halo_exchange, halo_refresh
+  use m_halo, only: halo_plan_t, halo_exchange, halo_refresh, halo_exchange_finish
   use m_phases, only: phases_t
   implicit none
   private
   public :: bc_kind_t, bc_outflow, bc_symmetry, bc_rigid, bc_periodic, bc_velocity
   public :: bc_from_name, boundary_apply, boundary_walls, fill_ghosts
+  public :: ghosts_start, ghosts_finish
   public :: ghosts_all, ghosts_flow, ghosts_level_sets
   public :: bc_names
 
@@ -32,6 +33,8 @@ module m_boundary
   integer, parameter :: ghosts_all = 0          !< flow of every phase and the level sets
   integer, parameter :: ghosts_flow = 1         !< flow of every phase
   integer, parameter :: ghosts_level_sets = 2   !< the level sets
+  !> the halves of a split fill_ghosts (its `part`)
+  integer, parameter :: ghosts_start = 1, ghosts_finish = 2
 
   !> The conditions on the six sides of the domain.
   type :: bc_kind_t
@@ -86,8 +89,9 @@ contains
   !> nflow are the flow variables of each phase (the stress among them changes sign in a
   !> mirror), the others scalars (level sets). A block b with skip(b) set takes only
   !> variables keep..nvar (none without keep), as in m_halo's halo_exchange: the level sets
-  !> of a dormant block.
-  subroutine boundary_apply(lay, bc, blocks, nvar, nflow, time, nphase, skip, keep, first)
+  !> of a dormant block. With `chosen`, the blocks b with chosen(b) set alone.
+  subroutine boundary_apply(lay, bc, blocks, nvar, nflow, time, nphase, skip, keep, first, &
+      chosen)
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
     type(block_t), intent(inout) :: blocks(:)
@@ -97,11 +101,15 @@ contains
     logical, intent(in), optional :: skip(:)
     integer, intent(in), optional :: keep
     integer, intent(in), optional :: first   !< the first variable (default 1)
+    logical, intent(in), optional :: chosen(:)
     integer :: b, d, s, kind, np, m1
     real(wp) :: vwall
     np = 1
     if (present(nphase)) np = nphase
     do b = 1, size(blocks)
+      if (present(chosen)) then
+        if (.not. chosen(b)) cycle
+      end if
       m1 = 1
       if (present(first)) m1 = first
       if (present(skip)) then
@@ -262,8 +270,12 @@ contains
   !> in skip (a dormant one, far from every surface) keeps its flow ghosts as they are and
   !> takes only its level sets', which always move. With `only`, block only alone: its flow
   !> halo from its neighbours on this rank (not changed since the last exchange), then all
-  !> its side conditions; a block that wakes after being skipped.
-  subroutine fill_ghosts(plan, lay, bc, blocks, ph, set, time, skip, only)
+  !> its side conditions; a block that wakes after being skipped. With `part`, one half of
+  !> the fill, so that blocks can be worked on while the messages travel: ghosts_start
+  !> starts the exchange and fills every ghost of the blocks that take nothing from other
+  !> ranks (plan%remote(b) false), ghosts_finish (same set, time and skip) those of the
+  !> others. The halves give what the whole gives: a block's side conditions read it alone.
+  subroutine fill_ghosts(plan, lay, bc, blocks, ph, set, time, skip, only, part)
     type(halo_plan_t), intent(inout) :: plan
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
@@ -273,19 +285,37 @@ contains
     real(wp), intent(in) :: time
     logical, intent(in), optional :: skip(:)
     integer, intent(in), optional :: only
+    integer, intent(in), optional :: part
     integer :: first, last
+    logical :: which(size(blocks))
     if (present(only)) then
       call halo_refresh(plan, blocks, only, ph%ils, 1)
       call boundary_apply(lay, bc, blocks(only:only), ph%nvar, ph%nflow, time, ph%nphase)
       return
     end if
+    call ghost_variables(ph, set, first, last)
+    which = .true.
+    if (present(part)) which = plan%remote .eqv. (part == ghosts_finish)
+    if (.not. present(part)) then
+      call halo_exchange(plan, blocks, last, first, skip=skip, keep=ph%ils + 1)
+    else if (part == ghosts_start) then
+      call halo_exchange(plan, blocks, last, first, skip=skip, keep=ph%ils + 1, split=.true.)
+    else
+      call halo_exchange_finish(plan, blocks)
+    end if
+    call boundary_apply(lay, bc, blocks, last, ph%nflow, time, ph%nphase, skip=skip, &
+      keep=ph%ils + 1, first=first, chosen=which)
+  end subroutine fill_ghosts
+
+  !> The variables first..last of a set of fill_ghosts.
+  pure subroutine ghost_variables(ph, set, first, last)
+    type(phases_t), intent(in) :: ph
+    integer, intent(in) :: set
+    integer, intent(out) :: first, last
     first = 1
     last = ph%nvar
     if (set == ghosts_flow) last = ph%ils
     if (set == ghosts_level_sets) first = ph%ils + 1
-    call halo_exchange(plan, blocks, last, first, skip=skip, keep=ph%ils + 1)
-    call boundary_apply(lay, bc, blocks, last, ph%nflow, time, ph%nphase, skip=skip, &
-      keep=ph%ils + 1, first=first)
-  end subroutine fill_ghosts
+  end subroutine ghost_variables
 
 end module m_boundary

@@ -84,6 +84,7 @@ contains
     call t%add('restart', c%restart, "'out/sod/chk_000100.h5'", 'checkpoint to continue')
     call t%add('rebalance_threshold', c%rebalance_threshold, '1.1', 'migrate above it; 0 never')
     call t%add('rebalance_every', c%rebalance_every, '100', 'steps between balance checks; 0 none')
+    call t%add('overlap', c%overlap, '.true.', 'compute blocks while halo messages travel')
     t%g = 'domain'
     call t%add('ndim', c%ndim, '2', 'number of dimensions, 1 to 3')
     call t%add('geometry', c%geometry, "'cartesian'", 'axisymmetric: x = r, y = z', &

@@ -9,7 +9,10 @@
 !> block along a direction, m_layout): a box takes the extent of the block it lies in, and
 !> across a face the two blocks agree in every other direction. The plan also counts what
 !> the exchanges move (halo_counts_t: integer adds per message and per copy, no
-!> communication), for run.json and manual/scale.md.
+!> communication), for run.json and manual/scale.md. An exchange may be split in two
+!> (halo_exchange with split, halo_exchange_finish): between them the blocks that receive
+!> nothing from other ranks (remote(b) false) have their whole halo and may be worked on
+!> while the messages travel (m_step, &run overlap).
 module m_halo
   use m_kinds, only: wp, i8
   use m_layout, only: layout_t, block_neighbor, block_extent
@@ -18,7 +21,7 @@ module m_halo
   implicit none
   private
   public :: halo_plan_t, halo_counts_t, halo_plan_build, halo_exchange, halo_refresh, &
-    halo_region
+    halo_region, halo_exchange_finish
 
   !> One piece: a box of cells of a local block, and the box of its source block.
   type :: piece_t
@@ -52,7 +55,13 @@ module m_halo
     real(wp), allocatable :: sendbuf(:, :), recvbuf(:, :)
     type(comm_exchange_t) :: ex
     type(halo_counts_t) :: counts
+    !> remote(b): block b's halo takes a piece from another rank (a message)
+    logical, allocatable :: remote(:)
+    !> the variables of the exchange started and not yet finished (none: last < first)
+    integer :: pending_first = 1, pending_last = 0
   end type halo_plan_t
+
+  integer(i8), parameter :: wp_bytes = storage_size(1.0_wp) / 8
 
 contains
 
@@ -110,7 +119,8 @@ contains
     ! partners in increasing rank order
     pindex = 0
     plan%npartner = 0
-    allocate(plan%copy(26 * max(nb, 1)))
+    allocate(plan%copy(26 * max(nb, 1)), plan%remote(nb))
+    plan%remote = .false.
     do b = 1, nb
       call each_direction(b)
     end do
@@ -143,6 +153,7 @@ contains
               plan%ncopy = plan%ncopy + 1
               plan%copy(plan%ncopy) = pc
             else
+              plan%remote(b) = .true.
               r = pindex(lay%owner(nbr))
               pc%key1 = blocks(b)%id
               pc%key2 = kdir
@@ -239,20 +250,24 @@ contains
     end do
   end subroutine sort_pieces
 
-  !> Fill the halos of variables first..nvar (first defaults to 1) of every block's q.
-  !> Receives are posted first, local copies run while the messages travel. A block b with
-  !> skip(b) set takes only variables keep..nvar (none without keep) by local copy: the
-  !> level sets of a dormant block, whose flow halo nothing reads (halo_refresh brings it
-  !> up to date should the block wake). Messages between ranks carry every piece whole.
-  subroutine halo_exchange(plan, blocks, nvar, first, skip, keep)
+  !> Fill the halos of variables first..nvar (first defaults to 1) of every block's q: the
+  !> messages packed and sent, receives posted, the local copies while they travel, then
+  !> the wait and the unpacking. A block b with skip(b) set takes only variables keep..nvar
+  !> (none without keep) by local copy: the level sets of a dormant block, whose flow halo
+  !> nothing reads (halo_refresh brings it up to date should the block wake). Messages
+  !> between ranks carry every piece whole. With split set, it returns after the local
+  !> copies: every block with remote(b) false has its halo, the others wait for
+  !> halo_exchange_finish, which must come before the next exchange; the interior of any
+  !> block may change in between (the messages are packed).
+  subroutine halo_exchange(plan, blocks, nvar, first, skip, keep, split)
     type(halo_plan_t), intent(inout) :: plan
     type(block_t), intent(inout) :: blocks(:)
     integer, intent(in) :: nvar
     integer, intent(in), optional :: first
     logical, intent(in), optional :: skip(:)
     integer, intent(in), optional :: keep
+    logical, intent(in), optional :: split
     integer :: r, c, m1, nv, mc
-    integer(i8), parameter :: wp_bytes = storage_size(1.0_wp) / 8
     integer, allocatable :: scount(:), rcount(:), ranks(:)
     m1 = 1
     if (present(first)) m1 = first
@@ -269,10 +284,12 @@ contains
       ranks(r) = plan%partner(r)%rank
       scount(r) = plan%partner(r)%ncells_send * nv
       rcount(r) = plan%partner(r)%ncells_recv * nv
-      call carry(plan%partner(r)%send, plan%sendbuf(:, r), into=.true.)
+      call carry(blocks, plan%partner(r)%send, m1, nvar, plan%sendbuf(:, r), into=.true.)
     end do
     if (plan%npartner > 0) call exchange_start(plan%ex, ranks, plan%sendbuf, scount, &
       plan%recvbuf, rcount)
+    plan%pending_first = m1
+    plan%pending_last = nvar
     plan%counts%exchanges = plan%counts%exchanges + 1
     plan%counts%messages = plan%counts%messages + count(scount > 0)
     plan%counts%bytes = plan%counts%bytes + wp_bytes * sum(int(scount, i8))
@@ -289,40 +306,54 @@ contains
       plan%counts%copy_bytes = plan%counts%copy_bytes + wp_bytes * (nvar - mc + 1) * &
         product(int(plan%copy(c)%hi - plan%copy(c)%lo + 1, i8))
     end do
+    if (present(split)) then
+      if (split) return
+    end if
+    call halo_exchange_finish(plan, blocks)
+  end subroutine halo_exchange
+
+  !> The rest of an exchange that halo_exchange began with split: wait for the messages and
+  !> unpack them into the halos of the blocks with remote(b) set.
+  subroutine halo_exchange_finish(plan, blocks)
+    type(halo_plan_t), intent(inout) :: plan
+    type(block_t), intent(inout) :: blocks(:)
+    integer :: r
     if (plan%npartner > 0) call exchange_wait(plan%ex, plan%recvbuf)
     do r = 1, plan%npartner
-      call carry(plan%partner(r)%recv, plan%recvbuf(:, r), into=.false.)
+      call carry(blocks, plan%partner(r)%recv, plan%pending_first, plan%pending_last, &
+        plan%recvbuf(:, r), into=.false.)
     end do
+    plan%pending_first = 1
+    plan%pending_last = 0
+  end subroutine halo_exchange_finish
 
-  contains
-
-    !> the pieces of one partner, variables m1..nvar, into its buffer (into) or out of it
-    subroutine carry(list, buf, into)
-      type(piece_t), intent(in) :: list(:)
-      real(wp), intent(inout) :: buf(:)
-      logical, intent(in) :: into
-      integer :: kp, pos, ni, mv, j, kk
-      pos = 0
-      do kp = 1, size(list)
-        associate (lo => list(kp)%lo, hi => list(kp)%hi, q => blocks(list(kp)%local)%q)
-          ni = hi(1) - lo(1) + 1
-          do mv = m1, nvar
-            do kk = lo(3), hi(3)
-              do j = lo(2), hi(2)
-                if (into) then
-                  buf(pos + 1:pos + ni) = q(lo(1):hi(1), j, kk, mv)
-                else
-                  q(lo(1):hi(1), j, kk, mv) = buf(pos + 1:pos + ni)
-                end if
-                pos = pos + ni
-              end do
+  !> the pieces of one partner, variables m1..nvar, into its buffer (into) or out of it
+  subroutine carry(blocks, list, m1, nvar, buf, into)
+    type(block_t), intent(inout) :: blocks(:)
+    type(piece_t), intent(in) :: list(:)
+    integer, intent(in) :: m1, nvar
+    real(wp), intent(inout) :: buf(:)
+    logical, intent(in) :: into
+    integer :: kp, pos, ni, mv, j, kk
+    pos = 0
+    do kp = 1, size(list)
+      associate (lo => list(kp)%lo, hi => list(kp)%hi, q => blocks(list(kp)%local)%q)
+        ni = hi(1) - lo(1) + 1
+        do mv = m1, nvar
+          do kk = lo(3), hi(3)
+            do j = lo(2), hi(2)
+              if (into) then
+                buf(pos + 1:pos + ni) = q(lo(1):hi(1), j, kk, mv)
+              else
+                q(lo(1):hi(1), j, kk, mv) = buf(pos + 1:pos + ni)
+              end if
+              pos = pos + ni
             end do
           end do
-        end associate
-      end do
-    end subroutine carry
-
-  end subroutine halo_exchange
+        end do
+      end associate
+    end do
+  end subroutine carry
 
   !> The local copies into block b alone, variables first..nvar: the halo that a call of
   !> halo_exchange with skip(b) left out, from the same (unchanged) neighbours. Pieces from
