@@ -105,9 +105,13 @@ contains
     integer(i8) :: nb, nl
     nb = comm_sum(int(size(sim%blocks), i8))
     nl = comm_sum(int(count(.not. sim%plan%remote), i8))
-    if (sim%ls%n > 0) nl = 0
-    write(line, '(a, i0, a, i0, a)') 'overlap: ', nl, ' of ', nb, &
-      ' blocks computed while the halo messages travel (none with level sets: DESIGN 5)'
+    if (sim%ls%n > 0) then
+      write(line, '(a, i0, a)') 'overlap: 0 of ', nb, ' blocks (a deck with level sets: the ' &
+        // 'ghost-fluid stage needs every halo before any block is computed)'
+    else
+      write(line, '(a, i0, a, i0, a)') 'overlap: ', nl, ' of ', nb, &
+        ' blocks computed while the halo messages travel'
+    end if
   end function overlap_line
 
   !> One RK stage on the blocks b with which(b) set, in order, their ghosts filled: each
