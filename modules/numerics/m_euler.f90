@@ -186,6 +186,8 @@ contains
         end if
         if (failed) return
         if (present(cut)) call wet_faces(d, c, nb, n, work%f)
+        if (present(bigphi) .and. .not. present(cut) .and. nv > min(i_epsp, ns + 1) - 1) &
+          call ghost_side(d, c, nb, n, work%surf, work%wl, work%wr, work%f)
         if (d == 1) then
           call scatter_x(c, nb, n, work%f)
         else
@@ -281,11 +283,65 @@ contains
           rr(:, jj) = bigphi(1:nbb, c0, jj + 1) < 0.0_wp
         end do
       end select
-      if (num%scalar_flux == scalar_flux_upwind) up = rl .and. rr
+      if (num%scalar_flux == scalar_flux_upwind) up = rl .eqv. rr
       if (num%surface_llf) return
       where (rl .and. .not. rr) surf = 1
       where (rr .and. .not. rl) surf = 2
     end subroutine upwind_faces
+
+    !> The ghost's side of the surface faces of a bundle: where mass leaves a ghost for the
+    !> real cell beside it, the ghost's bounded scalars (eps_p, w_c, lambda) go with it at
+    !> the ghost's own face value, the upwind flux, instead of the real cell's value that the
+    !> face carries for the real side (m_flux). A ghost's update matters only when it turns
+    !> real in the stage (a fresh cell); this keeps those scalars within their neighbours'
+    !> range there as in a real cell (theory.md 5.1e). The real cells' rates are unchanged.
+    subroutine ghost_side(dd, c0, nbb, nn, surf, wl, wr, f)
+      integer, intent(in) :: dd, c0, nbb, nn
+      integer, intent(in) :: surf(nbb, 0:nn)
+      real(wp), intent(in) :: wl(nbb, 0:nn, nv), wr(nbb, 0:nn, nv), f(nbb, 0:nn, nv)
+      integer :: mm, ii, jj, cell
+      real(wp) :: df
+      if (.not. any(surf /= 0)) return
+      do ii = 0, nn
+        do jj = 1, nbb
+          if (surf(jj, ii) == 2 .and. f(jj, ii, 1) > 0.0_wp .and. ii >= 1) then
+            ! the ghost is the left cell, ii: its high face
+            cell = ii
+          else if (surf(jj, ii) == 1 .and. f(jj, ii, 1) < 0.0_wp .and. ii < nn) then
+            ! the ghost is the right cell, ii + 1: its low face
+            cell = ii + 1
+          else
+            cycle
+          end if
+          do mm = min(i_epsp, ns + 1), nv
+            if (cell == ii) then
+              df = -face_weight(dd, cell, 2) * f(jj, ii, 1) * (wl(jj, ii, mm) - wr(jj, ii, mm))
+            else
+              df = face_weight(dd, cell, 1) * f(jj, ii, 1) * (wr(jj, ii, mm) - wl(jj, ii, mm))
+            end if
+            select case (dd)
+            case (1)
+              rhs(cell, jj, c0, perm(mm)) = rhs(cell, jj, c0, perm(mm)) + df
+            case (2)
+              rhs(jj, cell, c0, perm(mm)) = rhs(jj, cell, c0, perm(mm)) + df
+            case default
+              rhs(jj, c0, cell, perm(mm)) = rhs(jj, c0, cell, perm(mm)) + df
+            end select
+          end do
+        end do
+      end do
+    end subroutine ghost_side
+
+    !> The weight of the low (lh = 1) or high (2) face of cell i0 of a pencil in direction
+    !> dd in its rate: 1 / dx, r-weighted along r in an axisymmetric run (as scatter_x)
+    real(wp) function face_weight(dd, i0, lh) result(wgt)
+      integer, intent(in) :: dd, i0, lh
+      real(wp) :: rf
+      wgt = rdx
+      if (dd /= 1 .or. .not. lay%axisymmetric) return
+      rf = lay%lo(1) + real(offset(1) + i0 - 1, wp) * lay%dx(1)
+      wgt = rdx * (rf + real(lh - 1, wp) * lay%dx(1)) / (rf + 0.5_wp * lay%dx(1))
+    end function face_weight
 
     !> The faces of a bundle next to a trouble cell (none without the trouble mask).
     subroutine low_faces(dd, c0, nbb, nn, low)

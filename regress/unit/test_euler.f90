@@ -11,7 +11,13 @@
 !>     physical fluxes rho u^2 + p of the two end cells;
 !> (3) a conservative update: 30 third-order Runge-Kutta steps (rk_stage_update) of a
 !>     periodic 1D and 2D problem (gas and solid) keep the totals of mass, momentum and
-!>     energy to 1e-13 of their size.
+!>     energy to 1e-13 of their size;
+!> (4) a body's surface (a level set: real cells on one side, the phase's ghosts on the
+!>     other) with the material moving from the ghosts into the real cells: the real cell
+!>     at the surface keeps its plastic strain (rhs of rho eps_p = eps_p times rhs of rho),
+!>     and the ghost beside it, whose plastic strain is a millionth of the real cell's, keeps
+!>     rho eps_p >= 0 over a step at the time step's limit (its scalars leave it at its own
+!>     value, not the real cell's), on either side of the body.
 !> The state is of size 1 (rho, p, c, |S| of order 1): round-off is then 1e-16 of it.
 !> euler_rhs is called in one place (compute_rhs), so a change of its arguments is one edit.
 program test_euler
@@ -50,6 +56,8 @@ program test_euler
     call free_stream(2, .false., s, flux_kind_hllc, scalar_flux_llf, .true.)
     call free_stream(2, .true., s, flux_kind_llf, scalar_flux_upwind, .true.)
     call flux_balance(s)
+    call surface_scalars(s, 1)
+    call surface_scalars(s, -1)
   end do
   call periodic_update(1, .false., scheme_weno5)
   call periodic_update(1, .true., scheme_eno3)
@@ -61,7 +69,7 @@ contains
 
   !> The one call of euler_rhs: a block without walls, at offset 0 of its layout; the
   !> rates that crossed the domain's sides come back in bflux.
-  subroutine compute_rhs(lay, st, scheme, flux, scalar_flux, q, rhs, work, bflux)
+  subroutine compute_rhs(lay, st, scheme, flux, scalar_flux, q, rhs, work, bflux, bigphi)
     type(layout_t), intent(in) :: lay
     type(strength_t), intent(in) :: st
     integer, intent(in) :: scheme, flux, scalar_flux
@@ -69,6 +77,8 @@ contains
     real(wp), intent(out) :: rhs(:, :, :, :)
     type(euler_work_t), intent(inout) :: work
     real(wp), intent(out) :: bflux(2)
+    !> the phase's composite level set (< 0 where its cells are real), when it has a surface
+    real(wp), intent(in), optional :: bigphi(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):)
     logical :: wall(2, 3), failed
     real(wp) :: vwall(2, 3)
     integer :: nfallback
@@ -79,7 +89,7 @@ contains
     nfallback = 0
     failed = .false.
     call euler_rhs(lay, gas, st, num, q, rhs, [0, 0, 0], wall, vwall, work, nfallback, &
-      failed)
+      failed, bigphi)
     call check('euler_rhs: no face fell back, the stage went on', nfallback == 0 .and. &
       .not. failed)
     bflux = work%bflux
@@ -222,6 +232,52 @@ contains
       deallocate(q, rhs)
     end do
   end subroutine flux_balance
+
+  !> Test (4): 40 cells of a solid moving at 0.4 towards its real half (side = 1: the real
+  !> cells are 21..40, the ghosts 1..20; side = -1 the mirror image), eps_p 0.5 in the real
+  !> cells and 5e-7 in the ghosts.
+  subroutine surface_scalars(is, side)
+    integer, intent(in) :: is, side
+    type(layout_t) :: lay
+    type(euler_work_t) :: work
+    real(wp), allocatable :: q(:, :, :, :), rhs(:, :, :, :), bigphi(:, :, :)
+    real(wp) :: bflux(2), qc(n_solid), sdev(6), dt, x
+    integer :: i, n, g, real_cell, ghost_cell
+    character(len=:), allocatable :: tag
+    call one_block(1, [40, 1, 1], .false., .false., lay)
+    n = lay%bsize(1)
+    g = lay%ng(1)
+    allocate(q(1-g:n+g, 1, 1, n_solid), rhs(n, 1, 1, n_solid), bigphi(1-g:n+g, 1, 1))
+    sdev = 0.05_wp * [1.0_wp, -0.5_wp, -0.5_wp, 0.2_wp, 0.0_wp, 0.0_wp]
+    do i = 1 - g, n + g
+      x = lay%lo(1) + (real(i, wp) - 0.5_wp) * lay%dx(1)
+      bigphi(i, 1, 1) = -side * (x - lay%lo(1) - 0.5_wp)
+      if (bigphi(i, 1, 1) < 0.0_wp) then
+        call conserved(n_solid, 1.0_wp, [0.4_wp * side, 0.0_wp, 0.0_wp], 1.0_wp, sdev, &
+          0.5_wp, 0.01_wp, qc)
+      else
+        call conserved(n_solid, 1.0_wp, [0.4_wp * side, 0.0_wp, 0.0_wp], 1.0_wp, sdev, &
+          5.0e-7_wp, 2.0e-8_wp, qc)
+      end if
+      q(i, 1, 1, :) = qc
+    end do
+    call euler_work_init(lay, n_solid, work)
+    call compute_rhs(lay, solid, schemes(is), flux_kind_llf, scalar_flux_upwind, q, rhs, work, &
+      bflux, bigphi)
+    real_cell = merge(n / 2 + 1, n / 2, side == 1)
+    ghost_cell = merge(n / 2, n / 2 + 1, side == 1)
+    tag = 'surface 1D ' // trim(scheme_names(is)) // merge(' ghosts left ', ' ghosts right', &
+      side == 1) // ': '
+    call check_close(tag // 'the real surface cell keeps its eps_p (rhs rho eps_p = 0.5 rhs rho)', &
+      rhs(real_cell, 1, 1, i_epsp), 0.5_wp * rhs(real_cell, 1, 1, i_rho), &
+      1.0e-14_wp * abs(q(real_cell, 1, 1, i_rho)) / lay%dx(1))
+    ! dt at cfl 0.5 of the longitudinal speed (bulk 1.4 p / rho, shear 4 G / 3 rho, G = 1)
+    dt = 0.5_wp * lay%dx(1) / (0.4_wp + sqrt(1.4_wp + 4.0_wp / 3.0_wp))
+    call check(tag // 'the ghost beside it keeps rho eps_p >= 0 over a step', &
+      q(ghost_cell, 1, 1, i_epsp) + dt * rhs(ghost_cell, 1, 1, i_epsp) >= 0.0_wp)
+    call check(tag // 'and rho w_c >= 0', &
+      q(ghost_cell, 1, 1, i_wcold) + dt * rhs(ghost_cell, 1, 1, i_wcold) >= 0.0_wp)
+  end subroutine surface_scalars
 
   real(wp) function cell_pressure(qc) result(p)
     real(wp), intent(in) :: qc(:)
