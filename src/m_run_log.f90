@@ -5,8 +5,8 @@
 !> for tools (m_run_report makes both from the same facts). Rank 0 writes (m_errors).
 module m_run_log
   use, intrinsic :: iso_fortran_env, only: compiler_version, compiler_options
-  use m_kinds, only: wp, line_len
-  use m_comm, only: comm_size, comm_min, comm_max, comm_backend_name
+  use m_kinds, only: wp, i8, line_len
+  use m_comm, only: comm_size, comm_min, comm_max, comm_sum, comm_backend_name
   use m_errors, only: log_line
   use m_simulation, only: sim_t
   use m_memory, only: mem_parts, mem_text
@@ -45,6 +45,7 @@ contains
       s%cfg%rk_order, ', cfl ', s%cfg%cfl
     call log_line(line)
     call log_line('numerics: ' // trim(s%cfg%numerics_note))
+    if (s%cfg%overlap) call overlap_line(s)
     if (s%ph%has_strength) call log_line('numerics: flux of eps_p and w_c ' // &
       trim(s%cfg%scalar_flux))
     if (s%ph%has_strength .and. s%ls%n > 0) call log_line('numerics: S, eps_p, w_c across ' // &
@@ -82,6 +83,24 @@ contains
     call log_line(line)
     call write_memory_estimate(s)
   end subroutine write_run_header
+
+  !> run.log's line on &run overlap (collective): the blocks that are computed while the
+  !> halo messages travel, over all ranks (m_step); none on a deck with level sets.
+  subroutine overlap_line(s)
+    type(sim_t), intent(in) :: s
+    character(len=line_len) :: line
+    integer(i8) :: nb, nl
+    nb = comm_sum(int(size(s%blocks), i8))
+    nl = comm_sum(int(count(.not. s%plan%remote), i8))
+    if (.not. s%overlap) then
+      write(line, '(a, i0, a)') 'overlap: 0 of ', nb, ' blocks (a deck with level sets: the ' &
+        // 'ghost-fluid stage needs every halo before any block is computed)'
+    else
+      write(line, '(a, i0, a, i0, a)') 'overlap: ', nl, ' of ', nb, &
+        ' blocks computed while the halo messages travel'
+    end if
+    call log_line(line)
+  end subroutine overlap_line
 
   !> What the scene generators made of each generated body (manual/scenes.md): how many
   !> spheres, the volume fraction of its box made against the one asked for.

@@ -84,6 +84,9 @@ module m_simulation
     type(memory_t) :: mem
     type(balance_t) :: bal             !< the blocks' measured work, checks, migrations
     type(hot_t) :: hot                 !< hot-spot diagnostics (m_hotspot)
+    !> &run overlap where it applies: a deck without level sets, whose flow ghosts are its
+    !> only ghost step (m_step)
+    logical :: overlap = .false.
   end type sim_t
 
 contains
@@ -152,6 +155,7 @@ contains
     ! every block is awake without level sets
     allocate(sim%gf%dormant(size(sim%blocks)))
     sim%gf%dormant = .false.
+    sim%overlap = cfg%overlap .and. sim%ls%n == 0
     if (sim%ls%n > 0) then
       sim%gf%scn%eos = sim%ph%eos
       sim%gf%scn%shear = sim%ph%shear

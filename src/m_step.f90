@@ -12,7 +12,7 @@
 !> changes no result (DESIGN section 5).
 !> The numerics live in the modules named; this strings them together.
 module m_step
-  use m_kinds, only: wp, i8, line_len
+  use m_kinds, only: wp, i8
   use m_simulation, only: sim_t, sim_block_work
   use m_boundary, only: fill_ghosts, ghosts_all, ghosts_flow, boundary_walls, ghosts_start, &
     ghosts_finish
@@ -26,7 +26,7 @@ module m_step
   use m_phase_heat, only: phase_heat
   implicit none
   private
-  public :: advance, overlap_line
+  public :: advance
 
   !> the time of each stage within the step, in units of dt, for RK orders 1, 2 and 3
   real(wp), parameter :: stage_time(3, 3) = reshape([0.0_wp, 0.0_wp, 0.0_wp, &
@@ -51,7 +51,7 @@ contains
     end if
     do stage = 1, sim%cfg%rk_order
       t = sim%clk%time + stage_time(stage, sim%cfg%rk_order) * sim%clk%dt
-      if (sim%cfg%overlap .and. sim%ls%n == 0) then
+      if (sim%overlap) then
         call timer_start(sim%timers, 'halo')
         call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_all, t, &
           sim%gf%dormant, part=ghosts_start)
@@ -96,23 +96,6 @@ contains
     sim%diag%fallback_faces = sim%diag%fallback_faces + int(nf, i8)
     sim%diag%fallback_step = comm_sum(int(nf, i8))
   end subroutine advance
-
-  !> run.log's line on &run overlap (collective): the blocks that are computed while the
-  !> halo messages travel, over all ranks; none on a deck with level sets.
-  function overlap_line(sim) result(line)
-    type(sim_t), intent(in) :: sim
-    character(len=line_len) :: line
-    integer(i8) :: nb, nl
-    nb = comm_sum(int(size(sim%blocks), i8))
-    nl = comm_sum(int(count(.not. sim%plan%remote), i8))
-    if (sim%ls%n > 0) then
-      write(line, '(a, i0, a)') 'overlap: 0 of ', nb, ' blocks (a deck with level sets: the ' &
-        // 'ghost-fluid stage needs every halo before any block is computed)'
-    else
-      write(line, '(a, i0, a, i0, a)') 'overlap: ', nl, ' of ', nb, &
-        ' blocks computed while the halo messages travel'
-    end if
-  end function overlap_line
 
   !> One RK stage on the blocks b with which(b) set, in order, their ghosts filled: each
   !> its stage and its cell-local fallback. failed: a stage left a cell with no admissible

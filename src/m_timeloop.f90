@@ -7,7 +7,7 @@
 module m_timeloop
   use m_kinds, only: wp, i8, line_len
   use m_simulation, only: sim_t, sim_rate
-  use m_step, only: advance, overlap_line
+  use m_step, only: advance
   use m_euler, only: numerics_t
   use m_fallback, only: fallback_step, fallback_numerics
   use m_levelset_bodies, only: ls_material, ls_void
@@ -61,7 +61,6 @@ contains
     end if
     worst_step = 0.0_wp
     call progress_start(sim, progress)
-    if (sim%cfg%overlap) call log_line(overlap_line(sim))
     ! the halo counts of run.json are the loop's: per step, without the set-up's exchanges
     sim%plan%counts = halo_counts_t()
     call sim_rate(sim, rate, ok)
