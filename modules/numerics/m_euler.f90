@@ -43,6 +43,9 @@ module m_euler
     real(wp), allocatable :: prim(:, :, :, :)      !< (padded block, nv): rho, u, v, w, p, S, eps_p
     real(wp), allocatable :: pw(:)                 !< primitives of a bundle (nb, 1-g:n+g, 5)
     real(wp), allocatable :: wl(:), wr(:), f(:)    !< face states and fluxes (nb, 0:n, 5)
+    !> the scalars' fluxes as the right cell of a face sees them where they differ from f,
+    !> the left cell's (a ghost's side of a surface face: ghost_fluxes)
+    real(wp), allocatable :: fr(:)
     real(wp), allocatable :: el(:), er(:), cl(:), cr(:)   !< (nb, 0:n)
     real(wp), allocatable :: row(:)
     logical, allocatable :: up(:)                  !< faces with upwind scalars (nb, 0:n)
@@ -86,7 +89,7 @@ contains
     allocate(work%prim(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nv))
     allocate(work%pw(nbmax * (nmax + 2 * gmax) * nv))
     allocate(work%wl(nbmax * (nmax + 1) * nv), work%wr(nbmax * (nmax + 1) * nv))
-    allocate(work%f(nbmax * (nmax + 1) * nv))
+    allocate(work%f(nbmax * (nmax + 1) * nv), work%fr(nbmax * (nmax + 1) * nv))
     allocate(work%el(nbmax * (nmax + 1)), work%er(nbmax * (nmax + 1)))
     allocate(work%cl(nbmax * (nmax + 1)), work%cr(nbmax * (nmax + 1)))
     allocate(work%row(lo(1):hi(1)))
@@ -121,7 +124,8 @@ contains
     logical, intent(in), optional :: trouble(:, :, :)
     !> the phase's cut-cell geometry: rhs is the rate of its content (m_gfm_cut)
     type(cut_faces_t), intent(in), optional :: cut
-    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nr, nb, nv, m, c, nc, ns
+    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nr, nb, nv, m, c, nc, ns, mb
+    logical :: split
     real(wp) :: rdx, r
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
@@ -129,6 +133,8 @@ contains
     nv = size(q, 4)
     ! the Euler or solid variables; one more is rho lambda (reaction)
     ns = merge(n_solid, n_euler, nv >= n_solid)
+    ! the first of the bounded scalars (eps_p, w_c, lambda) in pencil order
+    mb = min(i_epsp, ns + 1)
     do k = lo(3), hi(3)
       do j = lo(2), hi(2)
         call primitive_row(eos, nr, q(:, j, k, i_rho), q(:, j, k, i_mx), q(:, j, k, i_my), &
@@ -186,12 +192,13 @@ contains
         end if
         if (failed) return
         if (present(cut)) call wet_faces(d, c, nb, n, work%f)
-        if (present(bigphi) .and. .not. present(cut) .and. nv > min(i_epsp, ns + 1) - 1) &
-          call ghost_side(d, c, nb, n, work%surf, work%wl, work%wr, work%f)
+        split = .false.
+        if (present(bigphi) .and. .not. present(cut) .and. nv >= mb) call ghost_fluxes(nb, n, &
+          work%surf, work%wl, work%wr, work%f, work%fr, split)
         if (d == 1) then
-          call scatter_x(c, nb, n, work%f)
+          call scatter_x(c, nb, n, work%f, work%fr)
         else
-          call scatter_yz(d, c, nb, n, work%f)
+          call scatter_yz(d, c, nb, n, work%f, work%fr)
         end if
       end do
     end do
@@ -291,57 +298,34 @@ contains
 
     !> The ghost's side of the surface faces of a bundle: where mass leaves a ghost for the
     !> real cell beside it, the ghost's bounded scalars (eps_p, w_c, lambda) go with it at
-    !> the ghost's own face value, the upwind flux, instead of the real cell's value that the
-    !> face carries for the real side (m_flux). A ghost's update matters only when it turns
-    !> real in the stage (a fresh cell); this keeps those scalars within their neighbours'
-    !> range there as in a real cell (theory.md 5.1e). The real cells' rates are unchanged.
-    subroutine ghost_side(dd, c0, nbb, nn, surf, wl, wr, f)
-      integer, intent(in) :: dd, c0, nbb, nn
+    !> the ghost's own face value, the upwind flux, while the face carries the real cell's
+    !> value for the real cell (m_flux). f becomes the flux its left cell sees, fr the one its
+    !> right cell sees; split tells whether any face of the bundle has two. A ghost's update
+    !> matters only where it turns real in the stage (a fresh cell); this keeps those scalars
+    !> within their neighbours' range there as in a real cell (theory.md 5.1e). The real
+    !> cells see the fluxes they saw before, to the bit.
+    subroutine ghost_fluxes(nbb, nn, surf, wl, wr, f, fr, split)
+      integer, intent(in) :: nbb, nn
       integer, intent(in) :: surf(nbb, 0:nn)
-      real(wp), intent(in) :: wl(nbb, 0:nn, nv), wr(nbb, 0:nn, nv), f(nbb, 0:nn, nv)
-      integer :: mm, ii, jj, cell
-      real(wp) :: df
-      if (.not. any(surf /= 0)) return
+      real(wp), intent(in) :: wl(nbb, 0:nn, nv), wr(nbb, 0:nn, nv)
+      real(wp), intent(inout) :: f(nbb, 0:nn, nv)
+      real(wp), intent(out) :: fr(nbb, 0:nn, nv)
+      logical, intent(out) :: split
+      integer :: ii, jj
+      split = any(surf /= 0)
+      if (.not. split) return
+      fr(:, :, mb:nv) = f(:, :, mb:nv)
       do ii = 0, nn
         do jj = 1, nbb
-          if (surf(jj, ii) == 2 .and. f(jj, ii, 1) > 0.0_wp .and. ii >= 1) then
-            ! the ghost is the left cell, ii: its high face
-            cell = ii
-          else if (surf(jj, ii) == 1 .and. f(jj, ii, 1) < 0.0_wp .and. ii < nn) then
-            ! the ghost is the right cell, ii + 1: its low face
-            cell = ii + 1
-          else
-            cycle
-          end if
-          do mm = min(i_epsp, ns + 1), nv
-            if (cell == ii) then
-              df = -face_weight(dd, cell, 2) * f(jj, ii, 1) * (wl(jj, ii, mm) - wr(jj, ii, mm))
-            else
-              df = face_weight(dd, cell, 1) * f(jj, ii, 1) * (wr(jj, ii, mm) - wl(jj, ii, mm))
-            end if
-            select case (dd)
-            case (1)
-              rhs(cell, jj, c0, perm(mm)) = rhs(cell, jj, c0, perm(mm)) + df
-            case (2)
-              rhs(jj, cell, c0, perm(mm)) = rhs(jj, cell, c0, perm(mm)) + df
-            case default
-              rhs(jj, c0, cell, perm(mm)) = rhs(jj, c0, cell, perm(mm)) + df
-            end select
-          end do
+          ! the ghost on the left, mass leaving it: it sees the upwind flux, the real cell f
+          if (surf(jj, ii) == 2 .and. f(jj, ii, 1) > 0.0_wp) &
+            f(jj, ii, mb:nv) = f(jj, ii, 1) * wl(jj, ii, mb:nv)
+          ! the ghost on the right, mass leaving it
+          if (surf(jj, ii) == 1 .and. f(jj, ii, 1) < 0.0_wp) &
+            fr(jj, ii, mb:nv) = f(jj, ii, 1) * wr(jj, ii, mb:nv)
         end do
       end do
-    end subroutine ghost_side
-
-    !> The weight of the low (lh = 1) or high (2) face of cell i0 of a pencil in direction
-    !> dd in its rate: 1 / dx, r-weighted along r in an axisymmetric run (as scatter_x)
-    real(wp) function face_weight(dd, i0, lh) result(wgt)
-      integer, intent(in) :: dd, i0, lh
-      real(wp) :: rf
-      wgt = rdx
-      if (dd /= 1 .or. .not. lay%axisymmetric) return
-      rf = lay%lo(1) + real(offset(1) + i0 - 1, wp) * lay%dx(1)
-      wgt = rdx * (rf + real(lh - 1, wp) * lay%dx(1)) / (rf + 0.5_wp * lay%dx(1))
-    end function face_weight
+    end subroutine ghost_fluxes
 
     !> The faces of a bundle next to a trouble cell (none without the trouble mask).
     subroutine low_faces(dd, c0, nbb, nn, low)
@@ -399,12 +383,14 @@ contains
       end do
     end subroutine bundle_x
 
+    !> rhs of the cells of x pencils at k = k0, bundled over j, from the fluxes of their faces
+    !> (the bounded scalars' low faces from fr where the bundle is split: ghost_fluxes).
     !> In axisymmetric geometry the radial fluxes are weighted by the face radius and divided
     !> by the cell radius: (r F)_{i+1/2} - (r F)_{i-1/2} over r_i dr (eq. 1.1), which
     !> conserves mass, axial momentum and energy in the volume 2 pi r dr dz.
-    subroutine scatter_x(k0, nbb, nn, f)
+    subroutine scatter_x(k0, nbb, nn, f, fr)
       integer, intent(in) :: k0, nbb, nn
-      real(wp), intent(in) :: f(nbb, 0:nn, nv)
+      real(wp), intent(in) :: f(nbb, 0:nn, nv), fr(nbb, 0:nn, nv)
       integer :: mm, ii, jj
       real(wp) :: wlo(nn), whi(nn), rc, rf
       do ii = 1, nn
@@ -418,6 +404,15 @@ contains
         end if
       end do
       do mm = 1, nv
+        if (split .and. mm >= mb) then
+          do jj = 1, nbb
+            do ii = 1, nn
+              rhs(ii, jj, k0, perm(mm)) = rhs(ii, jj, k0, perm(mm)) &
+                - (whi(ii) * f(jj, ii, mm) - wlo(ii) * fr(jj, ii - 1, mm))
+            end do
+          end do
+          cycle
+        end if
         do jj = 1, nbb
           do ii = 1, nn
             rhs(ii, jj, k0, perm(mm)) = rhs(ii, jj, k0, perm(mm)) &
@@ -447,14 +442,23 @@ contains
       end do
     end subroutine bundle_yz
 
-    subroutine scatter_yz(dd, c0, nbb, nn, f)
+    !> as scatter_x, for y or z pencils (dd = 2, 3) at k = c0 or j = c0, bundled over i
+    subroutine scatter_yz(dd, c0, nbb, nn, f, fr)
       integer, intent(in) :: dd, c0, nbb, nn
-      real(wp), intent(in) :: f(nbb, 0:nn, nv)
+      real(wp), intent(in) :: f(nbb, 0:nn, nv), fr(nbb, 0:nn, nv)
       integer :: mm, jj, ii
       logical :: at_lo, at_hi
       do mm = 1, nv
         do jj = 1, nn
-          if (dd == 2) then
+          if (split .and. mm >= mb) then
+            if (dd == 2) then
+              rhs(1:nbb, jj, c0, perm(mm)) = rhs(1:nbb, jj, c0, perm(mm)) &
+                - rdx * (f(:, jj, mm) - fr(:, jj - 1, mm))
+            else
+              rhs(1:nbb, c0, jj, perm(mm)) = rhs(1:nbb, c0, jj, perm(mm)) &
+                - rdx * (f(:, jj, mm) - fr(:, jj - 1, mm))
+            end if
+          else if (dd == 2) then
             rhs(1:nbb, jj, c0, perm(mm)) = rhs(1:nbb, jj, c0, perm(mm)) &
               - rdx * (f(:, jj, mm) - f(:, jj - 1, mm))
           else
