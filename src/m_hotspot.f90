@@ -15,7 +15,8 @@
 module m_hotspot
   use m_kinds, only: wp, i8, name_len
   use m_comm, only: comm_sum_array
-  use m_json, only: json_t, json_object, json_close, json_put, json_put_array
+  use m_json, only: json_t, json_object, json_close, json_put, json_put_array, &
+    json_put_members
   use m_config, only: config_t, is_set, material_index
   use m_levelset_bodies, only: ls_set_t, ls_void
   use m_text, only: int_text
@@ -398,12 +399,9 @@ contains
     do v = 1, size(hot%void)
       associate (vd => hot%void(v))
         call json_object(js, trim(vd%name))
-        call json_put(js, 'volume_start', vd%vol0)
-        call json_put(js, 'volume_min', vd%vol_min)
-        call json_put(js, 'volume_min_time', vd%t_min)
-        call json_put(js, 'collapse_time', vd%t_collapse)
-        call json_put(js, 'peak_T_near', vd%t_near_max)
-        call json_put(js, 'peak_T_near_time', vd%t_near_when)
+        call json_put_members(js, [character(len=16) :: 'volume_start', 'volume_min', &
+          'volume_min_time', 'collapse_time', 'peak_T_near', 'peak_T_near_time'], &
+          [vd%vol0, vd%vol_min, vd%t_min, vd%t_collapse, vd%t_near_max, vd%t_near_when])
         call json_close(js)
       end associate
     end do

@@ -16,7 +16,7 @@ module m_run_report
   use m_timers, only: timer_total, memory_kb
   use m_layout, only: active_cells
   use m_json, only: json_t, json_begin, json_end, json_object, json_close, json_put, &
-    json_put_array, json_write
+    json_put_array, json_put_members, json_write
   implicit none
   private
   public :: progress_t, progress_start, progress_report
@@ -372,14 +372,10 @@ contains
     end if
     call hot_json(s%hot, js)
     call json_object(js, 'timings')
-    call json_put(js, 'wall_seconds', f%wall)
-    call json_put(js, 'loop_seconds', f%loop)
-    call json_put(js, 'fluxes_seconds', f%fluxes)
-    call json_put(js, 'halo_seconds', f%halo)
-    call json_put(js, 'dt_seconds', f%dt)
-    call json_put(js, 'output_seconds', f%output)
-    call json_put(js, 'work_min_seconds', f%work_min)
-    call json_put(js, 'work_max_seconds', f%work_max)
+    call json_put_members(js, [character(len=16) :: 'wall_seconds', 'loop_seconds', &
+      'fluxes_seconds', 'halo_seconds', 'dt_seconds', 'output_seconds', 'work_min_seconds', &
+      'work_max_seconds'], [f%wall, f%loop, f%fluxes, f%halo, f%dt, f%output, f%work_min, &
+      f%work_max])
     call json_close(js)
     call balance_json(js)
     call halo_json(js)
@@ -393,18 +389,14 @@ contains
     call json_object(js, 'memory')
     call json_put(js, 'estimate_bytes_per_rank', sum(s%mem%parts))
     call json_object(js, 'estimate_parts')
-    do k = 1, size(mem_parts)
-      call json_put(js, trim(mem_parts(k)), s%mem%parts(k))
-    end do
+    call json_put_members(js, mem_parts, s%mem%parts)
     call json_close(js)
     call json_put(js, 'baseline_bytes_rank0', s%mem%base)
     call json_put(js, 'node_available_bytes', s%mem%node_available)
     call json_put(js, 'node_ranks', s%mem%node_ranks)
-    call json_put(js, 'peak_resident_bytes', f%peak)
-    call json_put(js, 'peak_resident_bytes_max_rank', f%peak_rank)
-    call json_put(js, 'baseline_bytes', f%base)
-    call json_put(js, 'bytes_per_cell_above_baseline', f%per_cell)
-    call json_put(js, 'solver_array_bytes_per_cell', f%arrays_per_cell)
+    call json_put_members(js, [character(len=29) :: 'peak_resident_bytes', &
+      'peak_resident_bytes_max_rank', 'baseline_bytes', 'bytes_per_cell_above_baseline', &
+      'solver_array_bytes_per_cell'], [f%peak, f%peak_rank, f%base, f%per_cell, f%arrays_per_cell])
     call json_close(js)
     call json_end(js)
     call json_write(js, path, ok)

@@ -16,7 +16,7 @@ module m_gfm_stress
   use m_kinds, only: wp
   implicit none
   private
-  public :: reflect_stress
+  public :: reflect_stress, cross_product
 
   integer, parameter :: ip = 5, is = 6   !< positions of p and S_xx in a primitive state
 
@@ -34,12 +34,12 @@ contains
     if (ndim < 3) then
       t2 = [0.0_wp, 0.0_wp, 1.0_wp]
     else if (abs(nrm(3)) < 0.9_wp) then
-      t2 = cross([0.0_wp, 0.0_wp, 1.0_wp], nrm)
+      t2 = cross_product([0.0_wp, 0.0_wp, 1.0_wp], nrm)
     else
-      t2 = cross([1.0_wp, 0.0_wp, 0.0_wp], nrm)
+      t2 = cross_product([1.0_wp, 0.0_wp, 0.0_wp], nrm)
     end if
     t2 = t2 / norm2(t2)
-    t1 = cross(t2, nrm)
+    t1 = cross_product(t2, nrm)
     r(1, :) = nrm
     r(2, :) = t1
     r(3, :) = t2
@@ -66,10 +66,11 @@ contains
     wg(is+5) = s(1, 3)
   end subroutine reflect_stress
 
-  pure function cross(a, b) result(c)
+  !> a x b (also the unit tests' cross product)
+  pure function cross_product(a, b) result(c)
     real(wp), intent(in) :: a(3), b(3)
     real(wp) :: c(3)
     c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
-  end function cross
+  end function cross_product
 
 end module m_gfm_stress

@@ -9,7 +9,7 @@ module m_json
   implicit none
   private
   public :: json_t, json_begin, json_end, json_object, json_close, json_put, json_put_array, &
-    json_write
+    json_put_members, json_write
 
   integer, parameter :: max_depth = 8
 
@@ -151,6 +151,18 @@ contains
     end do
     js%text = js%text // ']'
   end subroutine put_text_array
+
+  !> Several real members given as a table: keys(k): x(k), in order (trailing blanks of a
+  !> key are not part of it).
+  subroutine json_put_members(js, keys, x)
+    type(json_t), intent(inout) :: js
+    character(len=*), intent(in) :: keys(:)
+    real(wp), intent(in) :: x(:)
+    integer :: k
+    do k = 1, size(keys)
+      call put_real(js, trim(keys(k)), x(k))
+    end do
+  end subroutine json_put_members
 
   !> Write the text to path; ok is false when the file cannot be written.
   subroutine json_write(js, path, ok)

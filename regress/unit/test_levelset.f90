@@ -16,6 +16,7 @@ program test_levelset
   use m_levelset_advect, only: levelset_advect_rhs, levelset_rk_stage
   use m_levelset_reinit, only: levelset_reinit, levelset_halo_zero_gradient
   use m_levelset_geometry, only: levelset_normals, levelset_curvature, levelset_volume
+  use m_gfm_stress, only: cross_product
   implicit none
   real(wp), parameter :: pi = 3.14159265358979323846_wp
   integer, parameter :: ng = 4
@@ -258,7 +259,7 @@ contains
             if (abs(phi(i, j, k)) >= 4.0_wp * h) cycle
             p = -1.0_wp + ([i, j, k] - 0.5_wp) * h
             q = nrm(i, j, k, :)
-            rr = asin(min(1.0_wp, norm2(cross(q, p / norm2(p)))))
+            rr = asin(min(1.0_wp, norm2(cross_product(q, p / norm2(p)))))
             if (order == 2) then
               ang2 = max(ang2, rr)
               if (abs(phi(i, j, k)) < h) ang2_near = max(ang2_near, rr)
@@ -285,11 +286,5 @@ contains
     call check('normals: 4th-order normals radial within 1e-3 in the band', ang4 < 1.0e-3_wp)
     call check('normals: 2nd-order normals radial within 1e-2 in the band', ang2 < 1.0e-2_wp)
   end subroutine check_normals
-
-  pure function cross(a, b) result(c)
-    real(wp), intent(in) :: a(3), b(3)
-    real(wp) :: c(3)
-    c = [a(2) * b(3) - a(3) * b(2), a(3) * b(1) - a(1) * b(3), a(1) * b(2) - a(2) * b(1)]
-  end function cross
 
 end program test_levelset
