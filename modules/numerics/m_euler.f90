@@ -255,8 +255,8 @@ contains
     end subroutine wet_faces
 
     !> The faces of a bundle whose scalars take the upwind flux (m_flux): all of them with
-    !> num%scalar_flux upwind and no level sets, else those between two real cells of the
-    !> phase; and (with level sets) the faces between a real cell and a ghost, surf = 1 when
+    !> num%scalar_flux upwind and no level sets, else those between two real cells or two
+    !> ghosts of the phase (of a cut-cell phase: two wet cells); and (with level sets) the faces between a real cell and a ghost, surf = 1 when
     !> the left cell is real, 2 when the right one is. On those the transported variables
     !> (S, eps_p, w_c) move with the mass flux at the real cell's value: the ghost's deviator
     !> is built for the traction (MVI reverses the normal stress) and must not be dissipated
@@ -290,7 +290,10 @@ contains
           rr(:, jj) = bigphi(1:nbb, c0, jj + 1) < 0.0_wp
         end do
       end select
+      ! every face but the surface's: a ghost that turns real must start within range as a
+      ! real cell does (theory.md 5.1e); a cut-cell phase's dry cells hold no content
       if (num%scalar_flux == scalar_flux_upwind) up = rl .eqv. rr
+      if (num%scalar_flux == scalar_flux_upwind .and. present(cut)) up = rl .and. rr
       if (num%surface_llf) return
       where (rl .and. .not. rr) surf = 1
       where (rr .and. .not. rl) surf = 2
