@@ -408,20 +408,10 @@ contains
       end do
       do mm = 1, nv
         if (split .and. mm >= mb) then
-          do jj = 1, nbb
-            do ii = 1, nn
-              rhs(ii, jj, k0, perm(mm)) = rhs(ii, jj, k0, perm(mm)) &
-                - (whi(ii) * f(jj, ii, mm) - wlo(ii) * fr(jj, ii - 1, mm))
-            end do
-          end do
-          cycle
+          call rates_x(k0, nbb, nn, mm, wlo, whi, f(:, :, mm), fr(:, :, mm))
+        else
+          call rates_x(k0, nbb, nn, mm, wlo, whi, f(:, :, mm), f(:, :, mm))
         end if
-        do jj = 1, nbb
-          do ii = 1, nn
-            rhs(ii, jj, k0, perm(mm)) = rhs(ii, jj, k0, perm(mm)) &
-              - (whi(ii) * f(jj, ii, mm) - wlo(ii) * f(jj, ii - 1, mm))
-          end do
-        end do
       end do
       do jj = 1, nbb
         if (side(1, 1, 1, jj, k0)) call edge(wlo(1) * f(jj, 0, :), 1)
@@ -449,26 +439,14 @@ contains
     subroutine scatter_yz(dd, c0, nbb, nn, f, fr)
       integer, intent(in) :: dd, c0, nbb, nn
       real(wp), intent(in) :: f(nbb, 0:nn, nv), fr(nbb, 0:nn, nv)
-      integer :: mm, jj, ii
+      integer :: mm, ii
       logical :: at_lo, at_hi
       do mm = 1, nv
-        do jj = 1, nn
-          if (split .and. mm >= mb) then
-            if (dd == 2) then
-              rhs(1:nbb, jj, c0, perm(mm)) = rhs(1:nbb, jj, c0, perm(mm)) &
-                - rdx * (f(:, jj, mm) - fr(:, jj - 1, mm))
-            else
-              rhs(1:nbb, c0, jj, perm(mm)) = rhs(1:nbb, c0, jj, perm(mm)) &
-                - rdx * (f(:, jj, mm) - fr(:, jj - 1, mm))
-            end if
-          else if (dd == 2) then
-            rhs(1:nbb, jj, c0, perm(mm)) = rhs(1:nbb, jj, c0, perm(mm)) &
-              - rdx * (f(:, jj, mm) - f(:, jj - 1, mm))
-          else
-            rhs(1:nbb, c0, jj, perm(mm)) = rhs(1:nbb, c0, jj, perm(mm)) &
-              - rdx * (f(:, jj, mm) - f(:, jj - 1, mm))
-          end if
-        end do
+        if (split .and. mm >= mb) then
+          call rates_yz(dd, c0, nbb, nn, mm, f(:, :, mm), fr(:, :, mm))
+        else
+          call rates_yz(dd, c0, nbb, nn, mm, f(:, :, mm), f(:, :, mm))
+        end if
       end do
       do ii = 1, nbb
         if (dd == 2) then
@@ -482,6 +460,37 @@ contains
         if (at_hi) call edge(-rdx * f(ii, nn, :), ii)
       end do
     end subroutine scatter_yz
+
+    !> The rates of variable mm (pencil order) of the cells of x pencils at k = k0, bundled
+    !> over j, from the fluxes that their high faces (fh) and low faces (fl) carry for them,
+    !> face weights whi, wlo
+    subroutine rates_x(k0, nbb, nn, mm, wlo, whi, fh, fl)
+      integer, intent(in) :: k0, nbb, nn, mm
+      real(wp), intent(in) :: wlo(nn), whi(nn), fh(nbb, 0:nn), fl(nbb, 0:nn)
+      integer :: ii, jj
+      do jj = 1, nbb
+        do ii = 1, nn
+          rhs(ii, jj, k0, perm(mm)) = rhs(ii, jj, k0, perm(mm)) &
+            - (whi(ii) * fh(jj, ii) - wlo(ii) * fl(jj, ii - 1))
+        end do
+      end do
+    end subroutine rates_x
+
+    !> as rates_x, for y or z pencils (dd = 2, 3) at k = c0 or j = c0, bundled over i
+    subroutine rates_yz(dd, c0, nbb, nn, mm, fh, fl)
+      integer, intent(in) :: dd, c0, nbb, nn, mm
+      real(wp), intent(in) :: fh(nbb, 0:nn), fl(nbb, 0:nn)
+      integer :: jj
+      do jj = 1, nn
+        if (dd == 2) then
+          rhs(1:nbb, jj, c0, perm(mm)) = rhs(1:nbb, jj, c0, perm(mm)) &
+            - rdx * (fh(:, jj) - fl(:, jj - 1))
+        else
+          rhs(1:nbb, c0, jj, perm(mm)) = rhs(1:nbb, c0, jj, perm(mm)) &
+            - rdx * (fh(:, jj) - fl(:, jj - 1))
+        end if
+      end do
+    end subroutine rates_yz
 
     !> whether cell (i0, j0, k0) lies on the domain's low (lh = 1) or high (2) side in
     !> direction dd (not a periodic one) and is real for the phase
