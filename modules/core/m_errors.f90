@@ -9,7 +9,17 @@ module m_errors
   use m_comm, only: comm_abort, comm_exit, comm_is_root, comm_minloc_rank, comm_rank
   implicit none
   private
-  public :: fatal, stop_collective, log_open, log_close, log_line, log_flush
+  public :: fatal, stop_collective, log_open, log_close, log_line, log_flush, rule_i
+
+  !> A deck rule as the deck layer records it (m_deck_schema's rule): when prohibited holds,
+  !> the variable var ('group name') is refused for the reason why. Modules that know what
+  !> their own deck values may be (m_scene's body_check) are handed it.
+  abstract interface
+    subroutine rule_i(prohibited, var, why)
+      logical, intent(in) :: prohibited
+      character(len=*), intent(in) :: var, why
+    end subroutine rule_i
+  end interface
 
   integer :: log_unit = 0
   logical :: log_is_open = .false.   !< newunit numbers are negative: keep a flag

@@ -13,8 +13,8 @@ module m_deck
   use m_errors, only: stop_collective
   use m_comm, only: comm_bcast, comm_is_root
   use m_material_library, only: library_lookup
-  use m_text, only: int_text, base_name, file_text
-  use m_deck_text, only: to_lower, edit_distance, quoted, in_list, joined
+  use m_text, only: int_text, base_name, file_text, to_lower, edit_distance, quoted, in_list, &
+    joined
   use m_deck_parse, only: deck_var_t, deck_assign_t, deck_group_t, deck_split, first_group, &
     assign_value, value_text
   use m_deck_schema, only: deck_table, group_table, group_names, var_index, fail, fail_now, &

@@ -17,15 +17,13 @@ module m_deck_check
   use m_yield, only: strength_problem, strength_from_material, strength_model_names, &
     strength_model_needs
   use m_eos, only: eos_names, eos_needs
-  use m_text, only: int_text
-  use m_deck_text, only: real_text, in_list, to_lower
+  use m_text, only: int_text, real_text, in_list, to_lower, got_text
   use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
   use m_deck_schema, only: rule, deck_table, var_index, deck_error_count, deck_has_error, &
     deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
   use m_layout, only: n_halo, layout_block_size
-  use m_scene, only: boxes_cover
-  use m_scene_field, only: field_points, max_field_points
+  use m_scene, only: boxes_cover, body_check
   implicit none
   private
   public :: deck_check
@@ -63,7 +61,7 @@ contains
     call rule(len_trim(cfg%out_dir) == 0, 'run out_dir', 'missing required value (it is empty)')
     call rule(cfg%rebalance_threshold < 0.0_wp .or. (cfg%rebalance_threshold > 0.0_wp .and. &
       cfg%rebalance_threshold < 1.0_wp), 'run rebalance_threshold', 'must be 0 (never migrate) ' &
-      // 'or >= 1' // gr(cfg%rebalance_threshold))
+      // 'or >= 1' // got_text(cfg%rebalance_threshold))
     call check_domain()
     call check_output()
     ! &material: each, then the library entries that the base material and bodies use
@@ -111,7 +109,7 @@ contains
       call rule(.not. given('domain', 'ndim'), 'domain ndim', 'missing required value')
       ! without a &domain group at all, its other required values are the same mistake
       if (first_group(groups, 'domain') == 0) call deck_error_mark('&domain *')
-      call rule(nd < 1 .or. nd > 3, 'domain ndim', 'must be 1, 2 or 3' // gi(nd))
+      call rule(nd < 1 .or. nd > 3, 'domain ndim', 'must be 1, 2 or 3' // got_text(nd))
       ! the directions, cells and blocks mean nothing without a valid ndim
       if (deck_has_error('&domain ndim')) return
       nd_text = 'ndim = ' // int_text(nd)
@@ -119,18 +117,18 @@ contains
       call rule(axisymmetric .and. nd /= 2, 'domain geometry', "'axisymmetric' needs ndim = 2 " &
         // '(x = r, y = z), got ' // nd_text)
       call rule(axisymmetric .and. cfg%lo(1) < 0.0_wp, 'domain lo(1)', 'must be >= 0 in ' &
-        // 'axisymmetric geometry (x is the radius)' // gr(cfg%lo(1)))
+        // 'axisymmetric geometry (x is the radius)' // got_text(cfg%lo(1)))
       call rule(.not. given('domain', 'cells'), 'domain cells', 'missing required value')
       call rule(.not. given('domain', 'hi'), 'domain hi', 'missing required value')
       do d = 1, 3
         dd = '(' // int_text(d) // ')'
         call rule(d <= nd .and. cfg%cells(d) < n_halo, 'domain cells' // dd, &
           'must be >= 4 in a direction d <= ' // nd_text // ' (a block holds at least 4 ' &
-          // 'cells: the halo is 4 deep)' // gi(cfg%cells(d)))
+          // 'cells: the halo is 4 deep)' // got_text(cfg%cells(d)))
         call rule(d > nd .and. cfg%cells(d) /= 1, 'domain cells' // dd, &
-          'must be 1 in a direction d > ' // nd_text // gi(cfg%cells(d)))
+          'must be 1 in a direction d > ' // nd_text // got_text(cfg%cells(d)))
         call rule(.not. cfg%hi(d) > cfg%lo(d), 'domain hi' // dd, 'must be > lo' // dd &
-          // ' = ' // real_text(cfg%lo(d)) // gr(cfg%hi(d)))
+          // ' = ' // real_text(cfg%lo(d)) // got_text(cfg%hi(d)))
       end do
       ! block(d) = 0 (the default) asks for a block size chosen here
       do d = 1, 3
@@ -142,7 +140,8 @@ contains
           cfg%block(d) = layout_block_size(cfg%cells(d), nd)
         else
           call rule(cfg%block(d) < n_halo, 'domain block(' // int_text(d) // ')', &
-            'must be >= 4 cells (the halo is 4 deep; 0 = chosen for you)' // gi(cfg%block(d)))
+            'must be >= 4 cells (the halo is 4 deep; 0 = chosen for you)' &
+            // got_text(cfg%block(d)))
         end if
         ! any block size goes: the last block along d takes what is left (m_layout); one
         ! larger than the domain is the domain
@@ -208,10 +207,11 @@ contains
         call need(vars, eos_needs(ke), "eos '" // trim(m%eos) // "'" // in_m)
       call check_allowed(vars(1:ks), in_m)
       if (is_set(m%p0) .and. m%eos == 'ideal_gas') call rule(m%p0 < 0.0_wp, 'material p0', &
-        'must be >= 0.0' // in_m // gr(m%p0))
+        'must be >= 0.0' // in_m // got_text(m%p0))
       ! (p_inf missing is an error already; real_text(-unset) would overflow)
       if (is_set(m%p0) .and. is_set(m%p_inf) .and. m%eos == 'stiffened_gas') call rule(.not. &
-        m%p0 > -m%p_inf, 'material p0', 'must be > ' // real_text(-m%p_inf) // in_m // gr(m%p0))
+        m%p0 > -m%p_inf, 'material p0', 'must be > ' // real_text(-m%p_inf) // in_m &
+        // got_text(m%p0))
       ! strength values (the table's lines after strength_model) without a model would be
       ! ignored without a word: refuse them
       if (len_trim(m%strength_model) == 0) then
@@ -235,9 +235,9 @@ contains
         call need(vars, strength_model_needs(km), "strength_model '" // model // "'" // in_m)
       ! a perfectly plastic solid without a yield stress is a fluid
       if (is_set(m%yield0)) call rule(model == 'perfectly_plastic' .and. .not. m%yield0 > 0.0_wp, &
-        'material yield0', 'must be > 0.0' // in_m // gr(m%yield0))
+        'material yield0', 'must be > 0.0' // in_m // got_text(m%yield0))
       if (is_set(m%T0) .and. is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, &
-        'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // gr(m%t_melt))
+        'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // got_text(m%t_melt))
       if (is_set(m%melt_slope)) call rule(.not. is_set(m%t_melt), 'material melt_slope', &
         'needs t_melt, the melt temperature at rho0 (HMX: 550 K)' // in_m)
       ! vp_m < 1 (its line): the flow stress then grows with the rate, the return has one root
@@ -405,13 +405,10 @@ contains
 
     subroutine check_bodies()
       type(material_t) :: m
-      character(len=:), allocatable :: in_b, what
-      integer :: i, d
-      logical :: generated
+      character(len=:), allocatable :: in_b
+      integer :: i
       do i = 1, cfg%n_bodies
         associate(b => cfg%bodies(i))
-          generated = b%shape == 'random_spheres' .or. b%shape == 'random_field' .or. &
-            b%shape == 'grains'
           if (len_trim(b%name) == 0) b%name = 'body' // int_text(i)
           in_b = " in body '" // trim(b%name) // "'"
           call rule(.not. valid_name(b%name), 'body name', "'" // trim(b%name) &
@@ -420,21 +417,7 @@ contains
             // trim(b%name) // "' is defined twice")
           call rule(len_trim(b%material) == 0, 'body material', 'missing required value' // in_b)
           call rule(len_trim(b%shape) == 0, 'body shape', 'missing required value' // in_b)
-          what = 'must be > 0 for a ' // trim(b%shape) // in_b
-          do d = 1, cfg%ndim
-            call rule((b%shape == 'box' .or. generated) .and. .not. b%hi(d) > b%lo(d), &
-              'body hi(' // int_text(d) &
-              // ')', 'must be > lo(' // int_text(d) // ') = ' // real_text(b%lo(d)) // in_b &
-              // gr(b%hi(d)))
-          end do
-          call rule((b%shape == 'sphere' .or. b%shape == 'cylinder') .and. .not. &
-            b%radius > 0.0_wp, 'body radius', what // gr(b%radius))
-          if (generated) call check_generator(b, in_b)
-          call rule(b%shape == 'cylinder' .and. .not. b%length > 0.0_wp, 'body length', what &
-            // gr(b%length))
-          call rule((b%shape == 'cylinder' .or. b%shape == 'half_space') .and. .not. &
-            maxval(abs(b%axis)) > 0.0_wp, 'body axis', 'must not be zero for a ' &
-            // trim(b%shape) // in_b)
+          call body_check(b, cfg%ndim, in_b, rule)
           call deck_table(cfg, cfg%materials(1), b, vars)
           call check_allowed(pack(vars, vars%group == 'body'), in_b)
           if (b%material == 'void' .or. b%material == 'rigid') cycle
@@ -445,75 +428,18 @@ contains
           if (.not. is_set(b%p) .and. .not. is_set(b%T)) b%p = m%p0
           ! a gas without the rho0 or p0 that the body takes: reported by check_gas_needs
           if (.not. is_set(b%rho) .or. .not. (is_set(b%p) .or. is_set(b%T))) cycle
-          call rule(.not. b%rho > 0.0_wp, 'body rho', 'must be > 0' // in_b // gr(b%rho))
+          call rule(.not. b%rho > 0.0_wp, 'body rho', 'must be > 0' // in_b // got_text(b%rho))
           if (is_set(b%T)) then
-            call rule(.not. b%T > 0.0_wp, 'body T', 'must be > 0' // in_b // gr(b%T))
+            call rule(.not. b%T > 0.0_wp, 'body T', 'must be > 0' // in_b // got_text(b%T))
           else if (m%eos == 'ideal_gas') then
-            call rule(b%p < 0.0_wp, 'body p', 'must be >= 0 for a gas' // in_b // gr(b%p))
+            call rule(b%p < 0.0_wp, 'body p', 'must be >= 0 for a gas' // in_b // got_text(b%p))
           else if (m%eos == 'stiffened_gas' .and. is_set(m%p_inf)) then   ! (else an error already)
             call rule(.not. b%p > -m%p_inf, 'body p', 'must be > -p_inf = ' &
-              // real_text(-m%p_inf) // in_b // gr(b%p))
+              // real_text(-m%p_inf) // in_b // got_text(b%p))
           end if
         end associate
       end do
     end subroutine check_bodies
-
-    !> The generators' variables of body b (manual/scenes.md): what each shape needs, and
-    !> what random sequential addition or the field's grid cannot do.
-    subroutine check_generator(b, in_b)
-      type(body_t), intent(in) :: b
-      character(len=*), intent(in) :: in_b
-      real(wp) :: rmax, jam
-      character(len=:), allocatable :: dist
-      dist = trim(b%size_distribution)
-      if (b%shape == 'random_field') then
-        call rule(.not. b%volume_fraction > 0.0_wp, 'body volume_fraction', 'must be > 0 ' &
-          // 'for a random_field (the share of the box below the threshold)' // in_b)
-        call rule(.not. b%correlation_length > 0.0_wp, 'body correlation_length', &
-          'must be > 0 for a random_field' // in_b // gr(b%correlation_length))
-        if (b%correlation_length > 0.0_wp .and. all(b%hi(1:cfg%ndim) > b%lo(1:cfg%ndim))) &
-          call rule(product(real(field_points(cfg%ndim, b%lo, b%hi, b%correlation_length), &
-          wp)) > max_field_points, 'body correlation_length', 'too small for the box' // in_b &
-          // ': the field has 8 grid points per correlation length and at most 2^22 (raise' &
-          // ' it or shrink lo..hi)' // gr(b%correlation_length))
-        return
-      end if
-      if (b%shape == 'grains') then
-        call rule(.not. b%count > 1, 'body count', 'must be > 1 for grains (the number of ' &
-          // 'grains)' // in_b // gi(b%count))
-        call rule(.not. (b%volume_fraction > 0.0_wp .and. b%volume_fraction < 1.0_wp), &
-          'body volume_fraction', 'must be in (0, 1) for grains (their share of the box, ' &
-          // 'the rest binder)' // in_b // gr(b%volume_fraction))
-        return
-      end if
-      call rule(b%count == 0 .and. .not. b%volume_fraction > 0.0_wp, 'body volume_fraction', &
-        'give volume_fraction > 0 or count > 0 for random_spheres' // in_b)
-      call rule(b%count > 0 .and. b%volume_fraction > 0.0_wp, 'body count', &
-        'give count or volume_fraction' // in_b // ', not both')
-      call rule(dist /= 'uniform' .and. .not. b%radius > 0.0_wp, 'body radius', 'must be > 0 ' &
-        // 'for a ' // dist // ' size_distribution' // in_b // gr(b%radius))
-      call rule(dist == 'uniform' .and. .not. b%radius_min > 0.0_wp, 'body radius_min', &
-        'must be > 0 for a uniform size_distribution' // in_b // gr(b%radius_min))
-      call rule(dist == 'uniform' .and. .not. b%radius_max > b%radius_min, 'body radius_max', &
-        'must be > radius_min = ' // real_text(b%radius_min) // ' for a uniform ' &
-        // 'size_distribution' // in_b // gr(b%radius_max))
-      call rule(dist == 'lognormal' .and. .not. b%radius_sigma > 0.0_wp, 'body radius_sigma', &
-        'must be > 0 for a lognormal size_distribution' // in_b // gr(b%radius_sigma))
-      call rule(dist == 'lognormal' .and. b%radius_min > 0.0_wp .and. b%radius_max > 0.0_wp &
-        .and. .not. b%radius_max > b%radius_min, 'body radius_max', 'must be > radius_min = ' &
-        // real_text(b%radius_min) // in_b // gr(b%radius_max))
-      rmax = b%radius
-      if (dist == 'uniform' .or. (dist == 'lognormal' .and. b%radius_max > 0.0_wp)) &
-        rmax = b%radius_max
-      call rule(any(2.0_wp * (rmax + b%gap) > b%hi(1:cfg%ndim) - b%lo(1:cfg%ndim)) .and. &
-        all(b%hi(1:cfg%ndim) > b%lo(1:cfg%ndim)), 'body radius', 'a sphere of the largest ' &
-        // 'radius ' // real_text(rmax) // ' with its gap does not fit in lo..hi' // in_b)
-      ! random sequential addition jams at about 0.547 of the area (2D), 0.38 of the volume
-      jam = merge(0.5_wp, merge(0.35_wp, 0.9_wp, cfg%ndim == 3), cfg%ndim == 2)
-      call rule(b%volume_fraction > jam, 'body volume_fraction', 'must be <= ' &
-        // real_text(jam) // in_b // ': spheres placed one by one jam near 0.55 of the area ' &
-        // '(2D), 0.38 of the volume (3D)' // gr(b%volume_fraction))
-    end subroutine check_generator
 
   end subroutine deck_check
 
@@ -548,10 +474,10 @@ contains
       if (associated(vars(k)%r)) then
         if (.not. is_set(vars(k)%r)) cycle   ! (unset is not written: real_text would overflow)
         x = vars(k)%r
-        got = gr(x)
+        got = got_text(x)
       else
         x = real(vars(k)%i, wp)
-        got = gi(vars(k)%i)
+        got = got_text(vars(k)%i)
       end if
       if (a(1:1) == '>' .or. a(1:1) == '<') then
         read(a(scan(a, ' '):), *) lo
@@ -570,19 +496,6 @@ contains
         // in // got)
     end do
   end subroutine check_allowed
-
-  !> ', got <x>' for a message
-  function gr(x) result(t)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: t
-    t = ', got ' // real_text(x)
-  end function gr
-
-  function gi(i) result(t)   ! an integer's
-    integer, intent(in) :: i
-    character(len=:), allocatable :: t
-    t = ', got ' // int_text(i)
-  end function gi
 
   logical function valid_name(name)
     character(len=*), intent(in) :: name

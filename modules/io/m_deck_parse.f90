@@ -10,8 +10,7 @@
 module m_deck_parse
   use m_kinds, only: wp, name_len, line_len
   use m_config, only: is_set
-  use m_text, only: int_text
-  use m_deck_text, only: to_lower, real_text, quoted
+  use m_text, only: int_text, to_lower, real_text, quoted
   implicit none
   private
   public :: deck_var_t, deck_group_t, deck_assign_t

@@ -14,7 +14,7 @@ module m_deck_schema
   use m_kinds, only: wp
   use m_config, only: config_t, material_t, body_t
   use m_errors, only: stop_collective
-  use m_deck_text, only: to_lower, joined
+  use m_text, only: to_lower, joined
   use m_deck_parse, only: deck_var_t
   use m_boundary, only: bc_names
   use m_reconstruct, only: scheme_names
@@ -160,8 +160,8 @@ contains
     call t%add('jc_m', m%jc_m, '1.09', 'Johnson-Cook m', allowed='> 0.0')
     call t%add('t_melt', m%t_melt, '1358.0', 'melt temperature (K): no strength above', &
       allowed='> 0.0')
-    call t%add('melt_slope', m%melt_slope, '1.53', 'Kraut-Kennedy slope a: melt at t_melt (1 + a (1 - ' &
-      // 'rho0 / rho))', allowed='>= 0.0')
+    call t%add('melt_slope', m%melt_slope, '1.53', 'Kraut-Kennedy slope a: melt at t_melt (1 + ' &
+      // 'a (1 - rho0 / rho))', allowed='>= 0.0')
     call t%add('eps_rate0', m%eps_rate0, '1.0', 'reference plastic strain rate (1/s)', &
       allowed='> 0.0')
     call t%add('vp_chi', m%vp_chi, '1.08', 'power law rate = chi eps_rate^m sigma^n (MPa^-n)', &

@@ -12,10 +12,11 @@
 !> written in the fewest digits that read back to the same double ("clean" spacings).
 !> This module writes only XML: the HDF5 side is m_hdf5_io's.
 module m_xdmf
-  use m_kinds, only: wp, i8
+  use m_kinds, only: wp
   use m_layout, only: layout_t
   use m_comm, only: comm_is_root
   use m_errors, only: fatal
+  use m_text, only: real_text
   implicit none
   private
   public :: xdmf_write
@@ -90,25 +91,6 @@ contains
     origin(1:lay%ndim) = lay%lo(1:lay%ndim)
     spacing(1:lay%ndim) = lay%dx(1:lay%ndim)
   end subroutine mesh_nodes
-
-  !> A real in the fewest significant digits (2 to 17) that read back to the same double, so
-  !> the mesh sits exactly where the solver's is and 0.15 mm reads 1.5E-004, not
-  !> 1.4999999999999999E-004.
-  pure function real_text(x) result(s)
-    real(wp), intent(in) :: x
-    character(len=:), allocatable :: s
-    character(len=32) :: buf
-    character(len=16) :: fmt
-    real(wp) :: back
-    integer :: digits, ios
-    do digits = 2, 17
-      write(fmt, '("(es",i0,".",i0,"e3)")') digits + 8, digits - 1
-      write(buf, fmt) x
-      read(buf, *, iostat=ios) back
-      if (ios == 0 .and. transfer(back, 0_i8) == transfer(x, 0_i8)) exit
-    end do
-    s = trim(adjustl(buf))
-  end function real_text
 
   pure function dims_text(d) result(s)
     integer, intent(in) :: d(:)

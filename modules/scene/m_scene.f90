@@ -7,13 +7,15 @@
 !> the boxes of a material tile the domain (m_deck_check: then it needs no rest state). The
 !> generated shapes (random spheres, a random field, Voronoi grains: manual/scenes.md) are
 !> made once at set-up by scene_generate, on every rank alike; each is one body, with one
-!> level set, but grains one level set per colour (body_distance's colour).
+!> level set, but grains one level set per colour (body_distance's colour). body_check
+!> holds the deck's rules for a body's shape and generator values (m_deck_check calls it).
 module m_scene
   use m_kinds, only: wp
   use m_config, only: body_t
-  use m_errors, only: stop_collective
+  use m_errors, only: stop_collective, rule_i
+  use m_text, only: int_text, real_text, got_text
   use m_scene_generate, only: random_spheres, spheres_distance
-  use m_scene_field, only: random_field, field_distance
+  use m_scene_field, only: random_field, field_distance, field_points, max_field_points
   use m_scene_grains, only: make_grains, grains_distance
   use m_layout, only: layout_t, block_offset, block_extent
   use m_blocks, only: block_t
@@ -21,7 +23,7 @@ module m_scene
   implicit none
   private
   public :: inside_body, cell_centre, rigid_block_status, body_distance, rigid_bodies_move
-  public :: boxes_cover, scene_generate
+  public :: boxes_cover, scene_generate, body_check
 
 contains
 
@@ -232,5 +234,89 @@ contains
       end do
     end do
   end subroutine rigid_bodies_move
+
+  !> Body b's shape and generator values as deck rules (rule, m_errors' rule_i; in_b names
+  !> the body in a message, " in body 'ball'"): what each shape needs, and what random
+  !> sequential addition or the field's grid cannot do (manual/scenes.md).
+  subroutine body_check(b, ndim, in_b, rule)
+    type(body_t), intent(in) :: b
+    integer, intent(in) :: ndim
+    character(len=*), intent(in) :: in_b
+    procedure(rule_i) :: rule
+    character(len=:), allocatable :: what, dist
+    real(wp) :: rmax, jam
+    integer :: d
+    logical :: generated
+    generated = b%shape == 'random_spheres' .or. b%shape == 'random_field' .or. &
+      b%shape == 'grains'
+    what = 'must be > 0 for a ' // trim(b%shape) // in_b
+    do d = 1, ndim
+      call rule((b%shape == 'box' .or. generated) .and. .not. b%hi(d) > b%lo(d), 'body hi(' &
+        // int_text(d) // ')', 'must be > lo(' // int_text(d) // ') = ' // real_text(b%lo(d)) &
+        // in_b // got_text(b%hi(d)))
+    end do
+    call rule((b%shape == 'sphere' .or. b%shape == 'cylinder') .and. .not. &
+      b%radius > 0.0_wp, 'body radius', what // got_text(b%radius))
+    if (generated) call generator_check()
+    call rule(b%shape == 'cylinder' .and. .not. b%length > 0.0_wp, 'body length', what &
+      // got_text(b%length))
+    call rule((b%shape == 'cylinder' .or. b%shape == 'half_space') .and. .not. &
+      maxval(abs(b%axis)) > 0.0_wp, 'body axis', 'must not be zero for a ' // trim(b%shape) &
+      // in_b)
+
+  contains
+
+    subroutine generator_check()
+      dist = trim(b%size_distribution)
+      if (b%shape == 'random_field') then
+        call rule(.not. b%volume_fraction > 0.0_wp, 'body volume_fraction', 'must be > 0 ' &
+          // 'for a random_field (the share of the box below the threshold)' // in_b)
+        call rule(.not. b%correlation_length > 0.0_wp, 'body correlation_length', &
+          'must be > 0 for a random_field' // in_b // got_text(b%correlation_length))
+        if (b%correlation_length > 0.0_wp .and. all(b%hi(1:ndim) > b%lo(1:ndim))) &
+          call rule(product(real(field_points(ndim, b%lo, b%hi, b%correlation_length), &
+          wp)) > max_field_points, 'body correlation_length', 'too small for the box' // in_b &
+          // ': the field has 8 grid points per correlation length and at most 2^22 (raise' &
+          // ' it or shrink lo..hi)' // got_text(b%correlation_length))
+        return
+      end if
+      if (b%shape == 'grains') then
+        call rule(.not. b%count > 1, 'body count', 'must be > 1 for grains (the number of ' &
+          // 'grains)' // in_b // got_text(b%count))
+        call rule(.not. (b%volume_fraction > 0.0_wp .and. b%volume_fraction < 1.0_wp), &
+          'body volume_fraction', 'must be in (0, 1) for grains (their share of the box, ' &
+          // 'the rest binder)' // in_b // got_text(b%volume_fraction))
+        return
+      end if
+      call rule(b%count == 0 .and. .not. b%volume_fraction > 0.0_wp, 'body volume_fraction', &
+        'give volume_fraction > 0 or count > 0 for random_spheres' // in_b)
+      call rule(b%count > 0 .and. b%volume_fraction > 0.0_wp, 'body count', &
+        'give count or volume_fraction' // in_b // ', not both')
+      call rule(dist /= 'uniform' .and. .not. b%radius > 0.0_wp, 'body radius', 'must be > 0 ' &
+        // 'for a ' // dist // ' size_distribution' // in_b // got_text(b%radius))
+      call rule(dist == 'uniform' .and. .not. b%radius_min > 0.0_wp, 'body radius_min', &
+        'must be > 0 for a uniform size_distribution' // in_b // got_text(b%radius_min))
+      call rule(dist == 'uniform' .and. .not. b%radius_max > b%radius_min, 'body radius_max', &
+        'must be > radius_min = ' // real_text(b%radius_min) // ' for a uniform ' &
+        // 'size_distribution' // in_b // got_text(b%radius_max))
+      call rule(dist == 'lognormal' .and. .not. b%radius_sigma > 0.0_wp, 'body radius_sigma', &
+        'must be > 0 for a lognormal size_distribution' // in_b // got_text(b%radius_sigma))
+      call rule(dist == 'lognormal' .and. b%radius_min > 0.0_wp .and. b%radius_max > 0.0_wp &
+        .and. .not. b%radius_max > b%radius_min, 'body radius_max', 'must be > radius_min = ' &
+        // real_text(b%radius_min) // in_b // got_text(b%radius_max))
+      rmax = b%radius
+      if (dist == 'uniform' .or. (dist == 'lognormal' .and. b%radius_max > 0.0_wp)) &
+        rmax = b%radius_max
+      call rule(any(2.0_wp * (rmax + b%gap) > b%hi(1:ndim) - b%lo(1:ndim)) .and. &
+        all(b%hi(1:ndim) > b%lo(1:ndim)), 'body radius', 'a sphere of the largest ' &
+        // 'radius ' // real_text(rmax) // ' with its gap does not fit in lo..hi' // in_b)
+      ! random sequential addition jams at about 0.547 of the area (2D), 0.38 of the volume
+      jam = merge(0.5_wp, merge(0.35_wp, 0.9_wp, ndim == 3), ndim == 2)
+      call rule(b%volume_fraction > jam, 'body volume_fraction', 'must be <= ' &
+        // real_text(jam) // in_b // ': spheres placed one by one jam near 0.55 of the area ' &
+        // '(2D), 0.38 of the volume (3D)' // got_text(b%volume_fraction))
+    end subroutine generator_check
+
+  end subroutine body_check
 
 end module m_scene

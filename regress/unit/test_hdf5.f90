@@ -279,20 +279,20 @@ contains
     select case (tag)
     case ('1d')
       nodes = '1 1 65'
-      origin = '0.0E+000 0.0E+000 -1.0E+000'
-      spacing = '4.6875E-002 4.6875E-002 4.6875E-002'
+      origin = '0.0 0.0 -1.0'
+      spacing = '0.046875 0.046875 0.046875'
     case ('2d')
       nodes = '1 17 25'
-      origin = '0.0E+000 2.5E-001 -1.0E+000'
-      spacing = '1.25E-001 7.8125E-002 1.25E-001'
+      origin = '0.0 0.25 -1.0'
+      spacing = '0.125 0.078125 0.125'
     case ('2d_uneven')
       nodes = '1 19 31'
-      origin = '0.0E+000 2.5E-001 -1.0E+000'
-      spacing = '1.0E-001 6.944444444444445E-002 1.0E-001'
+      origin = '0.0 0.25 -1.0'
+      spacing = '0.1 0.06944444444444445 0.1'
     case ('3d')
       nodes = '17 9 13'
-      origin = '3.0E+000 2.5E-001 -1.0E+000'
-      spacing = '6.25E-002 1.5625E-001 2.5E-001'
+      origin = '3.0 0.25 -1.0'
+      spacing = '0.0625 0.15625 0.25'
     case default
       return
     end select
