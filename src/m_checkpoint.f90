@@ -21,6 +21,9 @@ module m_checkpoint
   integer, parameter :: checkpoint_version = 1
   !> the cut-cell update's fractions at the step's end (m_gfm_cut alpha_n)
   character(len=*), parameter :: fractions_name = '/cut/alpha_n'
+  !> which per-variable fields block_fields moves: the state's variables, or the cut-cell
+  !> phase's content
+  integer, parameter :: state_fields = 1, content_fields = 2
 
 contains
 
@@ -44,12 +47,7 @@ contains
     character(len=*), intent(in) :: deck_text
     type(h5_file_t) :: f
     real(wp), allocatable :: data(:, :, :, :)
-    integer, allocatable :: ids(:)
-    integer :: m, b, n(3)
-    n = sim%lay%nmax
-    allocate(data(n(1), n(2), n(3), size(sim%blocks)))
-    data = 0.0_wp
-    ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
+    integer :: b, n(3)
     call h5_create(f, step_file_name(sim, 'chk', sim%clk%step, '.h5'), sim%lay)
     call h5_write_attr(f, 'time', sim%clk%time)
     call h5_write_attr(f, 'step', sim%clk%step)
@@ -68,13 +66,7 @@ contains
       call h5_write_attr(f, 'fix_open_cells', sim%fix%open_cells)
       call h5_write_attr(f, 'fix_crossing', sim%fix%crossing)
     end if
-    do m = 1, sim%ph%nvar
-      do b = 1, size(sim%blocks)
-        n = sim%blocks(b)%n
-        data(1:n(1), 1:n(2), 1:n(3), b) = sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m)
-      end do
-      call h5_write_field(f, trim(state_names(m)), sim%lay, ids, data)
-    end do
+    call block_fields(f, sim, state_fields, .true.)
     ! the hot-spot peaks so far (run.json's summary covers the whole run)
     if (sim%hot%on) call h5_write_attr(f, 'hotspots', hot_pack(sim%hot))
     if (sim%cut%on) then
@@ -84,21 +76,16 @@ contains
       call h5_write_attr(f, 'cut_crossed', sim%cut%crossed)
       call h5_write_attr(f, 'cut_closing', sim%cut%closing)
       call h5_write_attr(f, 'cut_held', sim%cut%held)
-      do m = 1, sim%ph%nflow
-        do b = 1, size(sim%blocks)
-          n = sim%blocks(b)%n
-          data(1:n(1), 1:n(2), 1:n(3), b) = sim%cut%c0(1:n(1), 1:n(2), 1:n(3), m, b)
-        end do
-        call h5_write_field(f, trim(content_names(m)), sim%lay, ids, data)
-      end do
+      call block_fields(f, sim, content_fields, .true.)
       ! the fractions the states were formed at (the void's level set has followed the
       ! content since: cut_follow), which the next step's exchange of filled cells compares
       ! with (cut_donate)
+      data = field_buffer(sim)
       do b = 1, size(sim%blocks)
         n = sim%blocks(b)%n
         data(1:n(1), 1:n(2), 1:n(3), b) = sim%cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b)
       end do
-      call h5_write_field(f, fractions_name, sim%lay, ids, data)
+      call h5_write_field(f, fractions_name, sim%lay, block_ids(sim), data)
     end if
     call h5_write_text(f, '/deck', deck_text)
     call h5_close(f)
@@ -179,16 +166,10 @@ contains
     type(sim_t), intent(inout) :: sim
     character(len=*), intent(in) :: path
     type(h5_file_t) :: f
-    real(wp), allocatable :: data(:, :, :, :)
-    integer, allocatable :: ids(:)
-    integer :: m, b, n(3)
     real(wp), allocatable :: fix(:), hot(:)
     logical :: ok
     ! that the file is a checkpoint for this grid and state was checked before anything was
     ! written (output_restart_check)
-    n = sim%lay%nmax
-    allocate(data(n(1), n(2), n(3), size(sim%blocks)))
-    ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
     call h5_open_read(f, path)
     call h5_read_attr(f, 'time', sim%clk%time)
     call h5_read_attr(f, 'step', sim%clk%step)
@@ -214,13 +195,7 @@ contains
           'the open-side rule of the conservation fix): no phase taken as crossing')
       end if
     end if
-    do m = 1, sim%ph%nvar
-      call h5_read_field(f, trim(state_names(m)), sim%lay, ids, data)
-      do b = 1, size(sim%blocks)
-        n = sim%blocks(b)%n
-        sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m) = data(1:n(1), 1:n(2), 1:n(3), b)
-      end do
-    end do
+    call block_fields(f, sim, state_fields, .false.)
     if (sim%hot%on) then
       ok = h5_has_attr(f, 'hotspots')
       if (ok) then
@@ -243,13 +218,7 @@ contains
         if (h5_has_attr(f, 'cut_closing')) call h5_read_attr(f, 'cut_closing', sim%cut%closing)
         sim%cut%held = 0.0_wp
         if (h5_has_attr(f, 'cut_held')) call h5_read_attr(f, 'cut_held', sim%cut%held)
-        do m = 1, sim%ph%nflow
-          call h5_read_field(f, trim(content_names(m)), sim%lay, ids, data)
-          do b = 1, size(sim%blocks)
-            n = sim%blocks(b)%n
-            sim%cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = data(1:n(1), 1:n(2), 1:n(3), b)
-          end do
-        end do
+        call block_fields(f, sim, content_fields, .false.)
         sim%cut%restored = .true.
         if (h5_exists(f, fractions_name)) call restore_fractions()
       else
@@ -268,12 +237,12 @@ contains
     !> replaces by the fractions of the level set there (m_gfm_stage).
     subroutine restore_fractions()
       real(wp), allocatable :: ext(:, :, :, :)
-      integer :: e(3)
+      integer :: e(3), b, n(3)
       e = max(sim%lay%ng - 1, 0)
       allocate(ext(1-e(1):sim%lay%nmax(1)+e(1), 1-e(2):sim%lay%nmax(2)+e(2), &
         1-e(3):sim%lay%nmax(3)+e(3), size(sim%blocks)))
       ext = -1.0_wp
-      call h5_read_field_halo(f, fractions_name, sim%lay, ids, e, ext)
+      call h5_read_field_halo(f, fractions_name, sim%lay, block_ids(sim), e, ext)
       do b = 1, size(sim%blocks)
         n = sim%blocks(b)%n
         sim%cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = ext(1:n(1), 1:n(2), 1:n(3), b)
@@ -284,5 +253,59 @@ contains
       sim%cut%restored_fractions = .true.
     end subroutine restore_fractions
   end subroutine output_restart
+
+  !> The fields `which` (state_fields: /state/q<m>, one per state variable; content_fields:
+  !> /cut/c<m>, one per flow variable of the cut-cell phase) between this rank's blocks and
+  !> checkpoint f: written when `writing`, else read. One list of the fields for the writer
+  !> and the reader, so that they keep the same layout.
+  subroutine block_fields(f, sim, which, writing)
+    type(h5_file_t), intent(in) :: f
+    type(sim_t), intent(inout), target :: sim
+    integer, intent(in) :: which
+    logical, intent(in) :: writing
+    real(wp), allocatable :: data(:, :, :, :)
+    real(wp), pointer :: cells(:, :, :)
+    integer, allocatable :: ids(:)
+    character(len=name_len) :: name
+    integer :: m, b, n(3), nfields
+    data = field_buffer(sim)
+    ids = block_ids(sim)
+    nfields = merge(sim%ph%nflow, sim%ph%nvar, which == content_fields)
+    do m = 1, nfields
+      name = merge(content_names(m), state_names(m), which == content_fields)
+      if (.not. writing) call h5_read_field(f, trim(name), sim%lay, ids, data)
+      do b = 1, size(sim%blocks)
+        n = sim%blocks(b)%n
+        if (which == content_fields) then
+          cells => sim%cut%c0(1:n(1), 1:n(2), 1:n(3), m, b)
+        else
+          cells => sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m)
+        end if
+        if (writing) then
+          data(1:n(1), 1:n(2), 1:n(3), b) = cells
+        else
+          cells = data(1:n(1), 1:n(2), 1:n(3), b)
+        end if
+      end do
+      if (writing) call h5_write_field(f, trim(name), sim%lay, ids, data)
+    end do
+  end subroutine block_fields
+
+  !> A field of this rank's blocks as m_hdf5_io has it: block k at data(:, :, :, k), at the
+  !> largest block extent (the rest 0).
+  function field_buffer(sim) result(data)
+    type(sim_t), intent(in) :: sim
+    real(wp), allocatable :: data(:, :, :, :)
+    allocate(data(sim%lay%nmax(1), sim%lay%nmax(2), sim%lay%nmax(3), size(sim%blocks)))
+    data = 0.0_wp
+  end function field_buffer
+
+  !> The ids of this rank's blocks, in the order of the buffers' blocks.
+  pure function block_ids(sim) result(ids)
+    type(sim_t), intent(in) :: sim
+    integer :: ids(size(sim%blocks))
+    integer :: b
+    ids = [(sim%blocks(b)%id, b = 1, size(sim%blocks))]
+  end function block_ids
 
 end module m_checkpoint

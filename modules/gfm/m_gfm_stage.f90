@@ -255,12 +255,7 @@ contains
     do b = 1, size(blocks)
       if (gf%dormant(b)) cycle
       associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
-        n = blk%n
-        lo = 1 - blk%lay%ng
-        hi = n + blk%lay%ng
-        call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
-        call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
-          w%bigphi(:, :, :, p), w%owner(:, :, :, p))
+        call phase_region(blk)
         call cut_geometry(cut, b, blk, w%bigphi(:, :, :, p), open_sides, cut%ext(b)%a)
         if (.not. allocated(cut%ext_n(b)%a)) then
           ! a block that has just woken: it held none of the phase at the last step's end
@@ -305,12 +300,7 @@ contains
         cycle
       end if
       associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
-        n = blk%n
-        lo = 1 - blk%lay%ng
-        hi = n + blk%lay%ng
-        call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
-        call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
-          w%bigphi(:, :, :, p), w%owner(:, :, :, p))
+        call phase_region(blk)
         call cut_open(cut, b, blk, ph, cut%ext(b)%a, open_sides, final, bad, &
           w%bigphi(:, :, :, p), w%owner(:, :, :, p))
         if (ph%strong(p)) then
@@ -358,6 +348,22 @@ contains
     cut%stranded = cut%stranded + total(3:4)
     cut%closing = cut%closing + total(5:6)
     cut%held = cut%held + total(7)
+
+  contains
+
+    !> Block blk's extent (n its cells, lo:hi with the halo), the work arrays fitted to it,
+    !> and the phase's composite level set and owners over it: what both passes over the
+    !> blocks start from.
+    subroutine phase_region(blk)
+      type(block_t), intent(in) :: blk
+      n = blk%n
+      lo = 1 - blk%lay%ng
+      hi = n + blk%lay%ng
+      call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
+      call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
+        gf%work%bigphi(:, :, :, p), gf%work%owner(:, :, :, p))
+    end subroutine phase_region
+
   end subroutine phase_states
 
 end module m_gfm_stage

@@ -12,7 +12,7 @@ module m_flux
   use m_text, only: choice_index
   implicit none
   private
-  public :: flux_llf, flux_hllc, flux_from_name, flux_kind_llf, flux_kind_hllc, face_flux
+  public :: flux_from_name, flux_kind_llf, flux_kind_hllc, face_flux
   public :: flux_llf_solid, scalar_flux_from_name, scalar_flux_llf, scalar_flux_upwind
   public :: flux_names, scalar_flux_names
 
@@ -38,66 +38,67 @@ contains
     kind = choice_index(scalar_flux_names, name, 'scalar_flux_from_name')
   end function scalar_flux_from_name
 
+  !> The Euler flux of kind flux_kind_llf or flux_kind_hllc across nf faces, from the pencil
+  !> frame states w = (rho, u_n, u_t1, u_t2, p) left and right of each face, their specific
+  !> internal energies e and sound speeds c. The two Riemann solvers share these arguments
+  !> (their contained procedures see them) and differ only in their loop over the faces.
   subroutine face_flux(kind, nf, wl, wr, el, er, cl, cr, f)
     integer, intent(in) :: kind, nf
     real(wp), intent(in) :: wl(nf, 5), wr(nf, 5), el(nf), er(nf), cl(nf), cr(nf)
     real(wp), intent(out) :: f(nf, 5)
     if (kind == flux_kind_hllc) then
-      call flux_hllc(nf, wl, wr, el, er, cl, cr, f)
+      call flux_hllc()
     else
-      call flux_llf(nf, wl, wr, el, er, cl, cr, f)
+      call flux_llf()
     end if
+
+  contains
+
+    subroutine flux_llf()
+      real(wp) :: a, ml, mr, enl, enr, kl, kr
+      integer :: i
+      do i = 1, nf
+        a = max(abs(wl(i, 2)) + cl(i), abs(wr(i, 2)) + cr(i))
+        ml = wl(i, 1) * wl(i, 2)
+        mr = wr(i, 1) * wr(i, 2)
+        kl = 0.5_wp * (wl(i, 2)**2 + wl(i, 3)**2 + wl(i, 4)**2)
+        kr = 0.5_wp * (wr(i, 2)**2 + wr(i, 3)**2 + wr(i, 4)**2)
+        enl = wl(i, 1) * (el(i) + kl)
+        enr = wr(i, 1) * (er(i) + kr)
+        f(i, 1) = 0.5_wp * (ml + mr - a * (wr(i, 1) - wl(i, 1)))
+        f(i, 2) = 0.5_wp * (ml * wl(i, 2) + wl(i, 5) + mr * wr(i, 2) + wr(i, 5) &
+          - a * (wr(i, 1) * wr(i, 2) - wl(i, 1) * wl(i, 2)))
+        f(i, 3) = 0.5_wp * (ml * wl(i, 3) + mr * wr(i, 3) &
+          - a * (wr(i, 1) * wr(i, 3) - wl(i, 1) * wl(i, 3)))
+        f(i, 4) = 0.5_wp * (ml * wl(i, 4) + mr * wr(i, 4) &
+          - a * (wr(i, 1) * wr(i, 4) - wl(i, 1) * wl(i, 4)))
+        f(i, 5) = 0.5_wp * ((enl + wl(i, 5)) * wl(i, 2) + (enr + wr(i, 5)) * wr(i, 2) &
+          - a * (enr - enl))
+      end do
+    end subroutine flux_llf
+
+    subroutine flux_hllc()
+      real(wp) :: sl, sr, ss, enl, enr
+      integer :: i
+      do i = 1, nf
+        sl = min(wl(i, 2) - cl(i), wr(i, 2) - cr(i))
+        sr = max(wl(i, 2) + cl(i), wr(i, 2) + cr(i))
+        enl = wl(i, 1) * (el(i) + 0.5_wp * (wl(i, 2)**2 + wl(i, 3)**2 + wl(i, 4)**2))
+        enr = wr(i, 1) * (er(i) + 0.5_wp * (wr(i, 2)**2 + wr(i, 3)**2 + wr(i, 4)**2))
+        ss = (wr(i, 5) - wl(i, 5) + wl(i, 1) * wl(i, 2) * (sl - wl(i, 2)) &
+          - wr(i, 1) * wr(i, 2) * (sr - wr(i, 2))) &
+          / (wl(i, 1) * (sl - wl(i, 2)) - wr(i, 1) * (sr - wr(i, 2)))
+        if (ss >= 0.0_wp) then
+          f(i, :) = hllc_side(wl(i, 1), wl(i, 2), wl(i, 3), wl(i, 4), wl(i, 5), enl, sl, ss, &
+            sl >= 0.0_wp)
+        else
+          f(i, :) = hllc_side(wr(i, 1), wr(i, 2), wr(i, 3), wr(i, 4), wr(i, 5), enr, sr, ss, &
+            sr <= 0.0_wp)
+        end if
+      end do
+    end subroutine flux_hllc
+
   end subroutine face_flux
-
-  subroutine flux_llf(nf, wl, wr, el, er, cl, cr, f)
-    integer, intent(in) :: nf
-    real(wp), intent(in) :: wl(nf, 5), wr(nf, 5), el(nf), er(nf), cl(nf), cr(nf)
-    real(wp), intent(out) :: f(nf, 5)
-    real(wp) :: a, ml, mr, enl, enr, kl, kr
-    integer :: i
-    do i = 1, nf
-      a = max(abs(wl(i, 2)) + cl(i), abs(wr(i, 2)) + cr(i))
-      ml = wl(i, 1) * wl(i, 2)
-      mr = wr(i, 1) * wr(i, 2)
-      kl = 0.5_wp * (wl(i, 2)**2 + wl(i, 3)**2 + wl(i, 4)**2)
-      kr = 0.5_wp * (wr(i, 2)**2 + wr(i, 3)**2 + wr(i, 4)**2)
-      enl = wl(i, 1) * (el(i) + kl)
-      enr = wr(i, 1) * (er(i) + kr)
-      f(i, 1) = 0.5_wp * (ml + mr - a * (wr(i, 1) - wl(i, 1)))
-      f(i, 2) = 0.5_wp * (ml * wl(i, 2) + wl(i, 5) + mr * wr(i, 2) + wr(i, 5) &
-        - a * (wr(i, 1) * wr(i, 2) - wl(i, 1) * wl(i, 2)))
-      f(i, 3) = 0.5_wp * (ml * wl(i, 3) + mr * wr(i, 3) &
-        - a * (wr(i, 1) * wr(i, 3) - wl(i, 1) * wl(i, 3)))
-      f(i, 4) = 0.5_wp * (ml * wl(i, 4) + mr * wr(i, 4) &
-        - a * (wr(i, 1) * wr(i, 4) - wl(i, 1) * wl(i, 4)))
-      f(i, 5) = 0.5_wp * ((enl + wl(i, 5)) * wl(i, 2) + (enr + wr(i, 5)) * wr(i, 2) &
-        - a * (enr - enl))
-    end do
-  end subroutine flux_llf
-
-  subroutine flux_hllc(nf, wl, wr, el, er, cl, cr, f)
-    integer, intent(in) :: nf
-    real(wp), intent(in) :: wl(nf, 5), wr(nf, 5), el(nf), er(nf), cl(nf), cr(nf)
-    real(wp), intent(out) :: f(nf, 5)
-    real(wp) :: sl, sr, ss, enl, enr
-    integer :: i
-    do i = 1, nf
-      sl = min(wl(i, 2) - cl(i), wr(i, 2) - cr(i))
-      sr = max(wl(i, 2) + cl(i), wr(i, 2) + cr(i))
-      enl = wl(i, 1) * (el(i) + 0.5_wp * (wl(i, 2)**2 + wl(i, 3)**2 + wl(i, 4)**2))
-      enr = wr(i, 1) * (er(i) + 0.5_wp * (wr(i, 2)**2 + wr(i, 3)**2 + wr(i, 4)**2))
-      ss = (wr(i, 5) - wl(i, 5) + wl(i, 1) * wl(i, 2) * (sl - wl(i, 2)) &
-        - wr(i, 1) * wr(i, 2) * (sr - wr(i, 2))) &
-        / (wl(i, 1) * (sl - wl(i, 2)) - wr(i, 1) * (sr - wr(i, 2)))
-      if (ss >= 0.0_wp) then
-        f(i, :) = hllc_side(wl(i, 1), wl(i, 2), wl(i, 3), wl(i, 4), wl(i, 5), enl, sl, ss, &
-          sl >= 0.0_wp)
-      else
-        f(i, :) = hllc_side(wr(i, 1), wr(i, 2), wr(i, 3), wr(i, 4), wr(i, 5), enr, sr, ss, &
-          sr <= 0.0_wp)
-      end if
-    end do
-  end subroutine flux_hllc
 
   !> The HLLC flux on the side of the contact that the face sees: that side's state (rho,
   !> u_n, u_t1, u_t2, p), total energy en and wave speed s; beyond the wave (supersonic)

@@ -103,25 +103,26 @@ contains
   subroutine random_states(wl, wr, el, er, cl, cr)
     real(wp), intent(out) :: wl(nf, nv), wr(nf, nv), el(nf), er(nf), cl(nf), cr(nf)
     real(wp) :: r(nf, nv)
-    call random_number(r)
-    wl(:, 1) = 8000.0_wp + 2000.0_wp * r(:, 1)
-    wl(:, 2:4) = 600.0_wp * (r(:, 2:4) - 0.5_wp)
-    wl(:, 5) = -1.0e9_wp + 6.0e9_wp * r(:, 5)
-    wl(:, 6:11) = 0.6e9_wp * (r(:, 6:11) - 0.5_wp)
-    wl(:, i_epsp) = 2.0_wp * r(:, i_epsp)
-    wl(:, i_wcold) = 1.0e5_wp * r(:, i_wcold)
-    call random_number(r)
-    wr(:, 1) = 8000.0_wp + 2000.0_wp * r(:, 1)
-    wr(:, 2:4) = 600.0_wp * (r(:, 2:4) - 0.5_wp)
-    wr(:, 5) = -1.0e9_wp + 6.0e9_wp * r(:, 5)
-    wr(:, 6:11) = 0.6e9_wp * (r(:, 6:11) - 0.5_wp)
-    wr(:, i_epsp) = 2.0_wp * r(:, i_epsp)
-    wr(:, i_wcold) = 1.0e5_wp * r(:, i_wcold)
+    call random_side(wl, r)
+    call random_side(wr, r)
+    ! the sound speeds from the right side's draw
     cl = 4700.0_wp + 100.0_wp * r(:, 1)
     cr = 4700.0_wp + 100.0_wp * r(:, 2)
     el = wl(:, 5) / (2.0_wp * wl(:, 1))
     er = wr(:, 5) / (2.0_wp * wr(:, 1))
   end subroutine random_states
+
+  !> One side's states w from a fresh draw r (returned for the sound speeds).
+  subroutine random_side(w, r)
+    real(wp), intent(out) :: w(nf, nv), r(nf, nv)
+    call random_number(r)
+    w(:, 1) = 8000.0_wp + 2000.0_wp * r(:, 1)
+    w(:, 2:4) = 600.0_wp * (r(:, 2:4) - 0.5_wp)
+    w(:, 5) = -1.0e9_wp + 6.0e9_wp * r(:, 5)
+    w(:, 6:11) = 0.6e9_wp * (r(:, 6:11) - 0.5_wp)
+    w(:, i_epsp) = 2.0_wp * r(:, i_epsp)
+    w(:, i_wcold) = 1.0e5_wp * r(:, i_wcold)
+  end subroutine random_side
 
   !> One first-order step (face states = cell values, CFL 0.4 on the longitudinal speed) on
   !> a periodic row with density, velocity and scalar all random: the upwind scalar flux
