@@ -2,7 +2,7 @@
 !> ghost-fluid update is not conservative where a surface moves: a cell that turns real takes
 !> a ghost state, a cell that stops being real takes its content with it, and the faces
 !> between real cells and ghosts carry fluxes computed with ghost states. After each step the
-!> caller (m_timeloop) measures the mass and total energy of each solid phase over its real
+!> caller (m_step_after) measures the mass and total energy of each solid phase over its real
 !> cells, compares them with targets (the run's start plus what came in through the domain's
 !> sides), and returns what lies beyond a band to the phase's surface cells (real, within
 !> `width` of the surface):
