@@ -4,8 +4,8 @@
 !> - the corrections: the level sets' reinitialisation every reinit_every steps (those of
 !>   material and void bodies, m_levelset_reinit) and the conservation fix (m_gfm_conserve),
 !>   with the next step's signal rate from the corrected state.
-!> Each does nothing on a deck without what it corrects. The numerics live in the modules
-!> named; this calls them on the run's state.
+!> The corrections do nothing on a deck without what they correct. The numerics live in the
+!> modules named; this calls them on the run's state.
 module m_step_after
   use m_kinds, only: wp
   use m_simulation, only: sim_t, sim_rate
