@@ -51,7 +51,8 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_text core/m_signals
   gfm/m_gfm_cut_cells gfm/m_gfm_cut_close gfm/m_gfm_cut gfm/m_gfm_stage gfm/m_phase_heat strength/m_material_library numerics/m_numerics_defaults \
   io/m_deck_parse io/m_deck_schema io/m_deck_check io/m_deck io/m_history \
   io/m_hdf5_file io/m_hdf5_attr io/m_hdf5_io io/m_xdmf io/m_json
-DRIVER := m_hotspot m_memory m_simulation m_output m_checkpoint m_run_report m_run_log m_step m_rebalance m_timeloop
+DRIVER := m_hotspot m_memory m_simulation m_output m_checkpoint m_schedule m_run_report m_run_log \
+  m_step m_step_after m_rebalance m_timeloop
 SRC := $(addprefix modules/,$(addsuffix .f90,$(MODULES))) \
        $(addprefix src/,$(addsuffix .f90,$(DRIVER)))
 # comm back end (manual/design.md section 3): COMM=mpi (default) builds bin/sabre and

@@ -24,6 +24,7 @@ module m_step
   use m_balance, only: balance_now, balance_add
   use m_timers, only: timer_start, timer_stop
   use m_phase_heat, only: phase_heat
+  use m_gfm_conserve, only: fix_step_start
   implicit none
   private
   public :: advance
@@ -45,10 +46,7 @@ contains
     nf = 0
     failed = .false.
     sim%diag%step_failed = .false.
-    if (sim%fix%on) then
-      sim%fix%bflux = 0.0_wp
-      sim%fix%lost = 0.0_wp
-    end if
+    call fix_step_start(sim%fix)
     do stage = 1, sim%cfg%rk_order
       t = sim%clk%time + stage_time(stage, sim%cfg%rk_order) * sim%clk%dt
       if (sim%overlap) then

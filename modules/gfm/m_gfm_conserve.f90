@@ -2,7 +2,7 @@
 !> ghost-fluid update is not conservative where a surface moves: a cell that turns real takes
 !> a ghost state, a cell that stops being real takes its content with it, and the faces
 !> between real cells and ghosts carry fluxes computed with ghost states. After each step the
-!> caller (m_timeloop) measures the mass and total energy of each solid phase over its real
+!> caller (m_step_after) measures the mass and total energy of each solid phase over its real
 !> cells, compares them with targets (the run's start plus what came in through the domain's
 !> sides), and returns what lies beyond a band to the phase's surface cells (real, within
 !> `width` of the surface):
@@ -14,7 +14,8 @@
 !>   internal energy in proportion to mass.
 !> conserve_fix does this each step as measure (every block) -> reduce (over blocks and
 !> ranks, in block order) -> decide -> apply (every block); content_block and fix_block are
-!> its kernels on one block. No I/O; the only collective is m_comm's sum.
+!> its kernels on one block; fix_step_start clears the rates a step gathers (m_step). No I/O;
+!> the only collective is m_comm's sum.
 module m_gfm_conserve
   use m_kinds, only: wp
   use m_layout, only: layout_t, cell_volume
@@ -28,7 +29,7 @@ module m_gfm_conserve
   use m_comm, only: comm_sum_array
   implicit none
   private
-  public :: fix_t, fix_setup, conserve_fix, content_block, fix_block
+  public :: fix_t, fix_setup, fix_step_start, conserve_fix, content_block, fix_block
 
   !> per phase and block: mass, energy, surface mass, surface energy, surface internal energy
   integer, parameter, public :: n_content = 5
@@ -193,6 +194,15 @@ contains
       fix%reason = trim(fix%reason) // ' a moving rigid body does work on them'
     end if
   end subroutine fix_setup
+
+  !> At a step's start: the step's domain-side rates and dropped debris to zero (nothing
+  !> without the fix).
+  subroutine fix_step_start(fix)
+    type(fix_t), intent(inout) :: fix
+    if (.not. fix%on) return
+    fix%bflux = 0.0_wp
+    fix%lost = 0.0_wp
+  end subroutine fix_step_start
 
   !> The conservation fix after a step of dt (manual/interfaces.md section 2b). Each solid
   !> phase's mass and total energy over its real cells are measured and, when apply is set,

@@ -110,7 +110,7 @@ contains
     !> level sets: which faces join two real cells and which lie on the surface
     real(wp), intent(in), optional :: bigphi(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):)
     !> cells of the interior whose last update was inadmissible (the cell-local fallback,
-    !> m_timeloop): every face of theirs is reconstructed at first order
+    !> m_step): every face of theirs is reconstructed at first order
     logical, intent(in), optional :: trouble(:, :, :)
     !> the phase's cut-cell geometry: rhs is the rate of its content (m_gfm_cut)
     type(cut_faces_t), intent(in), optional :: cut
