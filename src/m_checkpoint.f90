@@ -58,7 +58,7 @@ contains
     call h5_write_attr(f, 'nvar', sim%ph%nvar)
     call h5_write_attr(f, 'checkpoint_version', checkpoint_version)
     if (sim%fix%on) then
-      ! the conservation fix's state (m_timeloop::conserve_step)
+      ! the conservation fix's state (m_step_after::step_corrections)
       call h5_write_attr(f, 'fix_content', reshape(sim%fix%content, [size(sim%fix%content)]))
       call h5_write_attr(f, 'fix_taken', reshape(sim%fix%taken, [size(sim%fix%taken)]))
       call h5_write_attr(f, 'fix_content0', sim%fix%content0)

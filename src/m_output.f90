@@ -495,7 +495,8 @@ contains
   end function body_measures
 
   !> Check out_dir, create it, and write the resolved deck there (out_dir/deck.nml, by
-  !> m_deck's deck_write_resolved). Collective. A refusal is a deck error of &run out_dir. Results already in out_dir stop the run unless overwrite is set or the
+  !> m_deck's deck_write_resolved). Collective. A refusal is a deck error of &run out_dir. Results
+  !> already in out_dir stop the run unless overwrite is set or the
   !> run restarts from a checkpoint in that same folder (a restart continues a run; that the
   !> checkpoint is one, output_restart_check of m_checkpoint has made sure before).
   subroutine output_prepare(cfg)

@@ -3,7 +3,8 @@
 !> the scheme choices, the level-set bodies, the ghost-fluid and conservation-fix states,
 !> the step's counters, the work space, the memory estimate and the blocks' measured work
 !> (m_balance; m_rebalance moves blocks between ranks when it drifts). sim_setup turns a deck into a
-!> ready-to-run simulation: layout, rigid-obstacle blocks, the memory estimate (m_memory; a deck that
+!> ready-to-run simulation: layout, rigid-obstacle blocks, the memory estimate (m_memory; a deck
+!> that
 !> does not fit the node is refused before anything is allocated), METIS partition,
 !> allocation and the initial state painted from the bodies (or read from a checkpoint by
 !> m_output).

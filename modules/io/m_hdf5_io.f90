@@ -320,7 +320,8 @@ contains
   !> - when a chunk would pass HDF5's limit of 4 GiB (a block of 2^29 cells, 812^3);
   !> - when chunks would make the file more than max_growth larger than its data: HDF5
   !>   stores a partial chunk at the edge of the grid whole, and indexes every chunk (about
-  !>   60 bytes a chunk, measured; index_bytes rounds it up). So 98^3 cells in 32^3 blocks (2.2 times the data) or
+  !>   60 bytes a chunk, measured; index_bytes rounds it up). So 98^3 cells in 32^3 blocks (2.2
+  !>   times the data) or
   !>   blocks of 4^3 cells (512-byte chunks, 12 % index) stay contiguous, while 256^3 in
   !>   32^3 (0.03 %) or 1000^3 in 32^3 (7 % of edge chunks) are chunked.
   pure function block_chunk(lay) result(chunk)

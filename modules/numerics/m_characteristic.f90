@@ -8,7 +8,8 @@
 !> speed c (any p(rho, e)); with strength the acoustic pair is (u, sigma = S_nn - p) at the
 !> longitudinal speed a^2 = c^2 + 4 G / (3 rho), the deviator's elastic part rides with the
 !> material (eq. 3.2; the Gruneisen term Gamma S_nn / rho of a^2, 0.4 % of c^2 in copper at
-!> Y = 0.4 GPa, is left out: a frozen basis need not be exact, its inverse is). Tangential velocities and the other variables (shear deviators, eps_p, w_c,
+!> Y = 0.4 GPa, is left out: a frozen basis need not be exact, its inverse is). Tangential
+!> velocities and the other variables (shear deviators, eps_p, w_c,
 !> rho lambda) are reconstructed as they are. A face whose mean state has no sound speed
 !> keeps the primitive reconstruction. Without the choice, or at first order, this is
 !> m_reconstruct's reconstruct_faces unchanged. Kernels only: no MPI, no I/O; workspace is

@@ -246,7 +246,8 @@ contains
 
     !> The faces of a bundle whose scalars take the upwind flux (m_flux): all of them with
     !> num%scalar_flux upwind and no level sets, else those between two real cells or two
-    !> ghosts of the phase (of a cut-cell phase: two wet cells); and (with level sets) the faces between a real cell and a ghost, surf = 1 when
+    !> ghosts of the phase (of a cut-cell phase: two wet cells); and (with level sets) the faces
+    !> between a real cell and a ghost, surf = 1 when
     !> the left cell is real, 2 when the right one is. On those the transported variables
     !> (S, eps_p, w_c) move with the mass flux at the real cell's value: the ghost's deviator
     !> is built for the traction (MVI reverses the normal stress) and must not be dissipated

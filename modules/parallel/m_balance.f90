@@ -5,7 +5,8 @@
 !> and the imbalance is the largest rank's work over the mean. Processor time, not wall time:
 !> a rank that the system takes off its core for another program (a shared node) is not
 !> charged for the time it did not run, so the measure is the code's own balance; the wall
-!> time of the same work is kept beside it for the record. This module turns measured block seconds into METIS weights,
+!> time of the same work is kept beside it for the record. This module turns measured block
+!> seconds into METIS weights,
 !> computes the imbalance of any owner map for them (the one in use: measured; a proposed
 !> one: predicted), and keeps the record of every check and migration for run.log and
 !> run.json. m_rebalance decides and moves the blocks. Knows nothing of physics.
