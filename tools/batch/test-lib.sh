@@ -1,6 +1,7 @@
 # shellcheck shell=bash
 # Pieces shared by tools/batch/test-slurm and tools/batch/test-pbs: the deck both run, the
-# uninterrupted reference run and the bit-for-bit comparison of final plot files.
+# uninterrupted reference run, the retry of a chain that the machine ran too fast to cut,
+# and the bit-for-bit comparison of final plot files.
 
 # a 2D implosion (many blocks, reflections everywhere) a few seconds long on 2 ranks
 test_deck=decks/implosion_2d.nml
@@ -28,6 +29,24 @@ test_reference() {
     t_end=$("$PYTHON" -c "import sys; print(2 * float(sys.argv[1]))" "$t_end")
   done
   test_fail "the reference run stays under 10 s up to t_end = $t_end"
+}
+
+# one_try DIR: whether the chain in DIR finished in its first try. A chain's wall_limit is
+# calibrated on the reference's wall time; a machine much less loaded than it was for the
+# reference (in CI on 2026-12-04 the reference took 12 s and the same run 1.8 s a minute
+# later) finishes the run before the limit, and the chain is not tested.
+one_try() {
+  [ -f "$1/batch.log" ] && [ "$(wc -l < "$1/batch.log")" -eq 1 ]
+}
+
+# longer_reference DIR NP: the run made twice as long (t_end), and its reference again
+longer_reference() {
+  echo "the chain finished in one try (the machine faster than for the reference); again" \
+    "with twice ${test_overrides[0]}"
+  test_overrides[0]="run.t_end=$("$PYTHON" -c "import sys; print(2 * float(sys.argv[1]))" \
+    "${test_overrides[0]#run.t_end=}")"
+  rm -rf "$1"
+  test_reference "$1" "$2"
 }
 
 # test_identical REF DIR: the final plot files hold bit-identical fields, time and step
