@@ -39,7 +39,6 @@ contains
       if (sim%cfg%plot_dt > 0.0_wp) sim%clk%next_plot_time = sim%cfg%plot_dt
       call history_write(sch%hist, sim%clk%step, history_values(sim))
     end if
-    sch%worst_step = 0.0_wp
   end subroutine schedule_open
 
   !> history row, plot file and checkpoint when the schedule says so
