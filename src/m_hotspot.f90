@@ -223,8 +223,9 @@ contains
     integer :: m, k, v, id
     logical :: mine(hot%nnear)
     id = hot%id
-    ! (voids on one level set, the spheres of one body: the cell is the nearest one's)
-    mine = hot_nearest(hot, x, hot%near(1:hot%nnear))
+    ! (voids on one level set, the spheres of one body: the cell is the nearest one's; no
+    ! void near the block, as in every scene without voids: nothing to find)
+    if (hot%nnear > 0) mine = hot_nearest(hot, x, hot%near(1:hot%nnear))
     do k = 1, hot%nnear
       v = hot%near(k)
       if (.not. mine(k)) cycle

@@ -121,8 +121,6 @@ contains
         end if
         t_block = balance_now()
         call boundary_walls(sim%lay, sim%bc, blk, t, wall, vwall)
-        ! the stage input, for the cell-local fallback (at stage 1 it is q0, kept anyway)
-        if (stage > 1) sim%wk%qsave = blk%q(1:n(1), 1:n(2), 1:n(3), :)
         call block_stage(sim, b, stage, wall, vwall, nf, failed)
         if (failed) exit
         ! the cell-local fallback: the stage again with every face of the cells it left
@@ -166,8 +164,14 @@ contains
     if (sim%ls%n > 0) call levelset_rates(sim%lay, sim%ls, sim%ph, sim%cfg%band, &
       sim%blocks(b), sim%gf%vel, sim%gf%ls_rhs, sim%gf%work%bigphi, sim%gf%work%owner)
     associate (blk => sim%blocks(b))
-      call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%clk%dt, blk%q, blk%q0, &
-        blk%rhs)
+      ! the stage input is kept for the cell-local fallback (at stage 1 it is q0 anyway)
+      if (stage > 1) then
+        call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%clk%dt, blk%q, blk%q0, &
+          blk%rhs, sim%wk%qsave)
+      else
+        call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%clk%dt, blk%q, blk%q0, &
+          blk%rhs)
+      end if
     end associate
     call phase_corrections(sim%gf, sim%cut, sim%ls, sim%ph, sim%fix, sim%blocks(b), b, stage, &
       sim%cfg%rk_order, sim%clk%dt, sim%cfg%thermal)

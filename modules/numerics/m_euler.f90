@@ -168,17 +168,13 @@ contains
         else
           call bundle_yz(d, c, nb, n, g, work%pw)
         end if
-        call upwind_faces(d, c, nb, n, work%up, work%surf)
-        call low_faces(d, c, nb, n, work%low)
-        if (present(cut) .and. ns > n_euler) then
-          call partial_faces(d, c, nb, n, work%lowb)
-          call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, wall(:, d), vwall(:, d), &
-            work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
-            work%cl, work%cr, work%f, work%chw, nfallback, failed, work%lowb)
+        ! (the scalars' faces: only where there are scalars, beyond the Euler variables)
+        if (nv > n_euler) call upwind_faces(d, c, nb, n, work%up, work%surf)
+        if (present(trouble)) then
+          call low_faces(d, c, nb, n, work%low)
+          call faces(work%low)
         else
-          call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, wall(:, d), vwall(:, d), &
-            work%up, work%surf, work%low, work%pw, work%wl, work%wr, work%el, work%er, &
-            work%cl, work%cr, work%f, work%chw, nfallback, failed)
+          call faces()
         end if
         if (failed) return
         if (present(cut)) call wet_faces(d, c, nb, n, work%f)
@@ -224,6 +220,23 @@ contains
     end if
 
   contains
+
+    !> The face states and fluxes of the bundle d, c (m_euler_faces), the faces low (of the
+    !> trouble cells) at first order when given, the faces beside a cut cell with their
+    !> scalars at the cells' values.
+    subroutine faces(low)
+      logical, intent(in), optional, contiguous :: low(:)
+      if (present(cut) .and. ns > n_euler) then
+        call partial_faces(d, c, nb, n, work%lowb)
+        call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, wall(:, d), vwall(:, d), &
+          work%up, work%surf, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
+          work%cr, work%f, work%chw, nfallback, failed, low, work%lowb)
+      else
+        call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, wall(:, d), vwall(:, d), &
+          work%up, work%surf, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
+          work%cr, work%f, work%chw, nfallback, failed, low)
+      end if
+    end subroutine faces
 
     !> The fluxes of a bundle times the wet part of their faces (the phase's cut geometry).
     subroutine wet_faces(dd, c0, nbb, nn, f)

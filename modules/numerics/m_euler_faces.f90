@@ -27,17 +27,17 @@ contains
   !> Face states and fluxes of a bundle of nb pencils of n cells: reconstruct, test
   !> admissibility (falling back to the cell values where a face state has rho <= 0 or
   !> c^2 <= 0), then the flux. The EOS and the flux see the nb (n + 1) faces as one list.
-  subroutine faces_and_fluxes(eos, shear, num, nb, n, g, nv, ns, wall, vwall, up, surf, low, &
-      pw, wl, wr, el, er, cl, cr, f, chw, nfallback, failed, low_bounded)
+  subroutine faces_and_fluxes(eos, shear, num, nb, n, g, nv, ns, wall, vwall, up, surf, pw, &
+      wl, wr, el, er, cl, cr, f, chw, nfallback, failed, low, low_bounded)
     type(eos_t), intent(in) :: eos
     real(wp), intent(in) :: shear
     type(numerics_t), intent(in) :: num
     !> nv variables: ns of the Euler (5) or solid (13) equations, then rho lambda if nv > ns
     integer, intent(in) :: nb, n, g, nv, ns
     logical, intent(in) :: wall(2)
+    !> (up and surf are read only with variables beyond the Euler ones, nv > 5)
     logical, intent(in) :: up(nb, 0:n)    !< faces whose scalars take the upwind flux
     integer, intent(in) :: surf(nb, 0:n)  !< faces on a body's surface (m_flux)
-    logical, intent(in) :: low(nb, 0:n)   !< faces reconstructed at first order
     real(wp), intent(in) :: vwall(2)
     real(wp), intent(in) :: pw(nb, 1-g:n+g, nv)
     real(wp), intent(out) :: wl(nb, 0:n, nv), wr(nb, 0:n, nv), el(nb, 0:n), er(nb, 0:n)
@@ -45,6 +45,8 @@ contains
     type(characteristic_work_t), intent(inout) :: chw
     integer, intent(inout) :: nfallback
     logical, intent(inout) :: failed
+    !> faces reconstructed at first order (those of the trouble cells; none when absent)
+    logical, intent(in), optional :: low(nb, 0:n)
     !> faces whose eps_p and w_c take the cells' values (beside a cut cell, m_gfm_cut)
     logical, intent(in), optional :: low_bounded(nb, 0:n)
     integer :: i, b, nf
@@ -54,7 +56,7 @@ contains
     ! (m_reconstruct's bound_faces)
     call reconstruct_pencils(num%scheme, num%variables, eos, ns > n_euler, shear, nb, n, g, nv, &
       pw, wl, wr, min(i_epsp, ns + 1), chw)
-    if (any(low)) then
+    if (present(low)) then
       do i = 0, n
         do b = 1, nb
           if (.not. low(b, i)) cycle

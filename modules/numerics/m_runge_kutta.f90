@@ -12,15 +12,18 @@ module m_runge_kutta
 contains
 
   !> TVD Runge-Kutta stage (Shu and Osher 1988): q = a q0 + b (q + dt rhs) on the interior.
-  subroutine rk_stage_update(lay, stage, order, dt, q, q0, rhs)
+  subroutine rk_stage_update(lay, stage, order, dt, q, q0, rhs, save)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: stage, order
     real(wp), intent(in) :: dt
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(inout) :: q0(:, :, :, :)
     real(wp), intent(in) :: rhs(:, :, :, :)
+    !> at a stage > 1, the stage's input (the interior of q) kept here on the way, for the
+    !> cell-local fallback (m_step); at stage 1 it is q0
+    real(wp), intent(out), optional :: save(:, :, :, :)
     real(wp) :: a, b
-    integer :: n1, n2, n3
+    integer :: n1, n2, n3, i, j, k, m
     n1 = lay%bsize(1)
     n2 = lay%bsize(2)
     n3 = lay%bsize(3)
@@ -31,7 +34,21 @@ contains
     end if
     a = rk_blend(stage, order)
     b = 1.0_wp - a
-    q(1:n1, 1:n2, 1:n3, :) = a * q0 + b * (q(1:n1, 1:n2, 1:n3, :) + dt * rhs)
+    if (.not. present(save)) then
+      q(1:n1, 1:n2, 1:n3, :) = a * q0 + b * (q(1:n1, 1:n2, 1:n3, :) + dt * rhs)
+      return
+    end if
+    ! (one pass over q for both: the copy was a pass of its own)
+    do m = 1, size(q, 4)
+      do k = 1, n3
+        do j = 1, n2
+          do i = 1, n1
+            save(i, j, k, m) = q(i, j, k, m)
+            q(i, j, k, m) = a * q0(i, j, k, m) + b * (q(i, j, k, m) + dt * rhs(i, j, k, m))
+          end do
+        end do
+      end do
+    end do
   end subroutine rk_stage_update
 
   !> The weight a of the step's start in stage `stage` (> 1) of the TVD Runge-Kutta step:
