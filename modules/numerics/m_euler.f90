@@ -135,7 +135,7 @@ contains
         end do
       end do
     end do
-    rhs = 0.0_wp
+    ! (rhs is not zeroed first: the x direction's rates, rates_x, set it; the others add)
     work%bflux = 0.0_wp
     do d = 1, lay%ndim
       n = lay%bsize(d)
@@ -467,15 +467,15 @@ contains
 
     !> The rates of variable mm (pencil order) of the cells of x pencils at k = k0, bundled
     !> over j, from the fluxes that their high faces (fh) and low faces (fl) carry for them,
-    !> face weights whi, wlo
+    !> face weights whi, wlo. The x direction comes first: this sets rhs, as 0 - the flux
+    !> difference (the sum from zero, to the bit, without a pass that zeroes rhs).
     subroutine rates_x(k0, nbb, nn, mm, wlo, whi, fh, fl)
       integer, intent(in) :: k0, nbb, nn, mm
       real(wp), intent(in) :: wlo(nn), whi(nn), fh(nbb, 0:nn), fl(nbb, 0:nn)
       integer :: ii, jj
       do jj = 1, nbb
         do ii = 1, nn
-          rhs(ii, jj, k0, perm(mm)) = rhs(ii, jj, k0, perm(mm)) &
-            - (whi(ii) * fh(jj, ii) - wlo(ii) * fl(jj, ii - 1))
+          rhs(ii, jj, k0, perm(mm)) = 0.0_wp - (whi(ii) * fh(jj, ii) - wlo(ii) * fl(jj, ii - 1))
         end do
       end do
     end subroutine rates_x

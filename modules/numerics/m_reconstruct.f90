@@ -36,7 +36,9 @@ contains
   !> Face states of nv variables on nb pencils of n cells with ng >= 3 halo cells, the pencil
   !> index innermost so that the loops vectorise across pencils:
   !> v(nb, 1-ng:n+ng, nv) cell averages -> left(nb, 0:n, nv), right(nb, 0:n, nv) at faces
-  !> 1/2 .. n+1/2. Variables bounded_from .. nv (optional) are bounded (bound_faces).
+  !> 1/2 .. n+1/2. Variables bounded_from .. nv (optional) are bounded (bound_faces). A
+  !> variable that is not bounded has its cells' polynomials written straight into left and
+  !> right (cells 1 .. n both, cell 0 its right face only, cell n + 1 its left face only).
   subroutine reconstruct_faces(scheme, nb, n, ng, nv, v, left, right, bounded_from)
     integer, intent(in) :: scheme, nb, n, ng, nv
     real(wp), intent(in) :: v(nb, 1-ng:n+ng, nv)
@@ -47,22 +49,38 @@ contains
     first_bounded = nv + 1
     if (present(bounded_from)) first_bounded = bounded_from
     do m = 1, nv
-      select case (scheme)
-      case (scheme_eno1)
-        vm = v(:, 0:n+1, m)
-        vp = vm
-      case (scheme_eno2)
-        call eno2(nb, n, ng, v(:, :, m), vm, vp)
-      case (scheme_weno5)
-        call weno5(nb, n, ng, v(:, :, m), vm, vp)
-      case default
-        call eno3(nb, n, ng, v(:, :, m), vm, vp)
-      end select
-      if (m >= first_bounded .and. scheme /= scheme_eno1) &
+      if (scheme == scheme_eno1) then
+        left(:, :, m) = v(:, 0:n, m)
+        right(:, :, m) = v(:, 1:n+1, m)
+      else if (m < first_bounded) then
+        ! cell 0 (vm(:, 0) unused), cells 1 .. n, cell n + 1 (vp(:, n + 1) unused)
+        call cells(0, 0, vm(:, 0), left(:, 0, m))
+        if (n > 0) call cells(1, n, right(:, 0:n-1, m), left(:, 1:n, m))
+        call cells(n + 1, n + 1, right(:, n, m), vp(:, n + 1))
+      else
+        call cells(0, n + 1, vm, vp)
         call bound_faces(nb, n, ng, v(:, :, m), vm, vp)
-      left(:, :, m) = vp(:, 0:n)
-      right(:, :, m) = vm(:, 1:n+1)
+        left(:, :, m) = vp(:, 0:n)
+        right(:, :, m) = vm(:, 1:n+1)
+      end if
     end do
+
+  contains
+
+    !> the face values vm (left face), vp (right face) of the cells i0 .. i1 of variable m
+    subroutine cells(i0, i1, cm, cp)
+      integer, intent(in) :: i0, i1
+      real(wp), intent(out) :: cm(nb, i0:i1), cp(nb, i0:i1)
+      select case (scheme)
+      case (scheme_eno2)
+        call eno2(nb, n, ng, v(:, :, m), i0, i1, cm, cp)
+      case (scheme_weno5)
+        call weno5(nb, n, ng, v(:, :, m), i0, i1, cm, cp)
+      case default
+        call eno3(nb, n, ng, v(:, :, m), i0, i1, cm, cp)
+      end select
+    end subroutine cells
+
   end subroutine reconstruct_faces
 
   !> Limit the face values vm(i), vp(i) of each cell i = 0 .. n + 1 towards the cell value
@@ -101,13 +119,13 @@ contains
 
   !> ENO2: the smaller of the two one-sided slopes (no limiting to zero at extrema); on a tie
   !> their mean, so that the choice is mirror-symmetric.
-  subroutine eno2(nb, n, ng, v, vm, vp)
-    integer, intent(in) :: nb, n, ng
+  subroutine eno2(nb, n, ng, v, i0, i1, vm, vp)
+    integer, intent(in) :: nb, n, ng, i0, i1
     real(wp), intent(in) :: v(nb, 1-ng:n+ng)
-    real(wp), intent(out) :: vm(nb, 0:n+1), vp(nb, 0:n+1)
+    real(wp), intent(out) :: vm(nb, i0:i1), vp(nb, i0:i1)
     real(wp) :: dl, dr, slope
     integer :: i, b
-    do i = 0, n + 1
+    do i = i0, i1
       do b = 1, nb
         dl = v(b, i) - v(b, i-1)
         dr = v(b, i+1) - v(b, i)
@@ -124,17 +142,17 @@ contains
   !> difference; r = number of cells of the stencil left of i (0, 1 or 2). On a tie the two
   !> mirror-image choices are averaged, so that the result on mirrored data is the mirror
   !> image of the result.
-  subroutine eno3(nb, n, ng, v, vm, vp)
-    integer, intent(in) :: nb, n, ng
+  subroutine eno3(nb, n, ng, v, i0, i1, vm, vp)
+    integer, intent(in) :: nb, n, ng, i0, i1
     real(wp), intent(in) :: v(nb, 1-ng:n+ng)
-    real(wp), intent(out) :: vm(nb, 0:n+1), vp(nb, 0:n+1)
+    real(wp), intent(out) :: vm(nb, i0:i1), vp(nb, i0:i1)
     real(wp), parameter :: c1 = 1.0_wp / 3.0_wp, c5 = 5.0_wp / 6.0_wp, c6 = 1.0_wp / 6.0_wp
     real(wp), parameter :: c7 = 7.0_wp / 6.0_wp, c11 = 11.0_wp / 6.0_wp
     real(wp) :: d1l, d1r, d2a, d2b, d2c, p0m, p0p, p1m, p1p, p2m, p2p
     real(wp) :: a, bb, c, d, e
     real(wp) :: tm, tp, um, up
     integer :: i, b
-    do i = 0, n + 1
+    do i = i0, i1
       do b = 1, nb
         a = v(b, i-2)
         bb = v(b, i-1)
@@ -169,14 +187,14 @@ contains
   end subroutine eno3
 
   !> WENO5-JS with the ideal weights (1, 6, 3) / 10 and eps = 1e-6.
-  subroutine weno5(nb, n, ng, v, vm, vp)
-    integer, intent(in) :: nb, n, ng
+  subroutine weno5(nb, n, ng, v, i0, i1, vm, vp)
+    integer, intent(in) :: nb, n, ng, i0, i1
     real(wp), intent(in) :: v(nb, 1-ng:n+ng)
-    real(wp), intent(out) :: vm(nb, 0:n+1), vp(nb, 0:n+1)
+    real(wp), intent(out) :: vm(nb, i0:i1), vp(nb, i0:i1)
     real(wp), parameter :: eps = 1.0e-6_wp, c13 = 13.0_wp / 12.0_wp
     real(wp) :: b0, b1, b2, a0, a1, a2, s, va, vb, vc, vd, ve
     integer :: i, b
-    do i = 0, n + 1
+    do i = i0, i1
       do b = 1, nb
         va = v(b, i-2)
         vb = v(b, i-1)
