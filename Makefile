@@ -13,6 +13,7 @@
 #                   the 1D and ghost-fluid families (~3 min), then the Taylor bar (~20 min)
 #   make accuracy-taylor  the Taylor-bar family alone (error against its finest run)
 #   make bench      3D gas-dynamics benchmark on 1 and 2 ranks with the STREAM triad
+#                   (CLOVERLEAF=path/to/clover_leaf make bench: CloverLeaf3D beside it)
 #   make clean
 
 SHELL := /bin/bash
