@@ -23,7 +23,7 @@ module m_hotspot
   implicit none
   private
   public :: hot_t, hot_start, hot_setup, hot_columns, hot_row_start, hot_block, hot_cell, hot_row
-  public :: hot_count, hot_nearest
+  public :: hot_count, hot_nearest, hot_wants
   public :: hot_json, hot_pack, hot_unpack
 
   integer, parameter :: max_thresholds = 4
@@ -264,6 +264,15 @@ contains
       call move_alloc(b2, hot%block_of)
     end subroutine grow
   end subroutine hot_cell
+
+  !> Whether hot_cell would count a cell at temperature temp of the block it adds to: a void
+  !> is near the block, or temp is above the first threshold (the caller skips the rest).
+  pure logical function hot_wants(hot, temp) result(wants)
+    type(hot_t), intent(in) :: hot
+    real(wp), intent(in) :: temp
+    wants = hot%nnear > 0
+    if (hot%n > 0) wants = wants .or. temp > hot%thr(1)
+  end function hot_wants
 
   !> Which of the voids cand (ascending) is, of those on its level set, the one whose surface
   !> is nearest to x (the distance |x - centre| - radius; of equal ones the first): each cell

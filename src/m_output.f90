@@ -18,7 +18,7 @@ module m_output
   use m_layout, only: cell_volume
   use m_config, only: config_t, is_set, material_index
   use m_hotspot, only: hot_t, hot_columns, hot_row_start, hot_block, hot_cell, hot_row, &
-    hot_nearest
+    hot_nearest, hot_wants
   use m_kinds, only: i8, line_len
   use m_errors, only: stop_collective
   use m_text, only: base_name, normal_path, dir_name, replaced
@@ -323,7 +323,7 @@ contains
               if (has_t(ph)) tmax = max(tmax, maxval(temp, msk > 0.0_wp))
               if (has_t(ph) .and. hot%on) then
                 do i = 1, n
-                  if (.not. msk(i) > 0.0_wp) cycle
+                  if (.not. msk(i) > 0.0_wp .or. .not. hot_wants(hot, temp(i))) cycle
                   call hot_cell(hot, global_index(i, j, k), cell_centre(sim%lay, off, i, j, k), &
                     dv(i), rho(i), temp(i))
                 end do
