@@ -18,7 +18,7 @@
 !> differ from run to run; the fields do not.
 module m_rebalance
   use m_kinds, only: wp, line_len
-  use m_simulation, only: sim_t
+  use m_simulation, only: sim_t, sim_faces_only
   use m_blocks, only: block_t, blocks_allocate
   use m_euler, only: cut_faces_t
   use m_halo, only: halo_plan_build
@@ -183,7 +183,7 @@ contains
           recvbuf(:, m))
       end do
     end do
-    call halo_plan_build(sim%lay, sim%blocks, sim%plan)
+    call halo_plan_build(sim%lay, sim%blocks, sim%plan, sim_faces_only(sim))
   end subroutine migrate
 
   !> This rank's blocks and their per-block parts, taken out of sim.

@@ -41,7 +41,7 @@ module m_simulation
   use m_conduction, only: conduction_rate
   implicit none
   private
-  public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, sim_rate
+  public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, sim_rate, sim_faces_only
 
   !> Depth of the ghost band in cells: the reach (3) of the ENO3 and WENO5 stencils of a real
   !> cell next to the surface, and a half cell for oblique surfaces.
@@ -148,7 +148,7 @@ contains
     work = predicted_work(sim)
     call partition_blocks(sim%lay, work)
     call blocks_allocate(sim%lay, comm_rank(), sim%ph%nvar, sim%blocks)
-    call halo_plan_build(sim%lay, sim%blocks, sim%plan)
+    call halo_plan_build(sim%lay, sim%blocks, sim%plan, sim_faces_only(sim))
     sim%bal%threshold = cfg%rebalance_threshold
     sim%bal%every = cfg%rebalance_every
     call balance_start(sim%bal, size(sim%blocks))
@@ -562,5 +562,14 @@ contains
       if (dormant) work(id) = 1
     end do
   end function predicted_work
+
+  !> Whether the halo plan needs the blocks' faces only (m_halo's faces_only): a scene without
+  !> level sets (whose derivatives and ghost fill reach diagonally) and without heat
+  !> conduction (its temperature is made over the whole padded block), where every stencil
+  !> runs along one direction and nothing reads a halo's edges and corners.
+  logical function sim_faces_only(sim) result(faces)
+    type(sim_t), intent(in) :: sim
+    faces = sim%ls%n == 0 .and. .not. sim%cfg%heat_conduction
+  end function sim_faces_only
 
 end module m_simulation

@@ -114,24 +114,32 @@ contains
     logical, intent(in), optional :: trouble(:, :, :)
     !> the phase's cut-cell geometry: rhs is the rate of its content (m_gfm_cut)
     type(cut_faces_t), intent(in), optional :: cut
-    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nr, nb, nv, m, c, nc, ns, mb
+    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nb, nv, m, c, nc, ns, mb
+    integer :: inner, i0, i1   !< directions of (j, k) outside the interior; the row's cells
     logical :: split
     real(wp) :: rdx, r
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
-    nr = hi(1) - lo(1) + 1
     nv = size(q, 4)
     ! the Euler or solid variables; one more is rho lambda (reaction)
     ns = merge(n_solid, n_euler, nv >= n_solid)
     ! the first of the bounded scalars (eps_p, w_c, lambda) in pencil order
     mb = min(i_epsp, ns + 1)
+    ! the primitives of the cells the pencils read: the interior and the halo beside each
+    ! face, not the halo's edges and corners (no stencil reaches them; a plan of faces only
+    ! does not fill them, m_halo)
     do k = lo(3), hi(3)
       do j = lo(2), hi(2)
-        call primitive_row(eos, nr, q(:, j, k, i_rho), q(:, j, k, i_mx), q(:, j, k, i_my), &
-          q(:, j, k, i_mz), q(:, j, k, i_en), work%prim(:, j, k, 1), work%prim(:, j, k, 2), &
-          work%prim(:, j, k, 3), work%prim(:, j, k, 4), work%prim(:, j, k, 5), work%row)
+        inner = count([j < 1 .or. j > lay%bsize(2), k < 1 .or. k > lay%bsize(3)])
+        if (inner == 2) cycle
+        i0 = merge(lo(1), 1, inner == 0)
+        i1 = merge(hi(1), lay%bsize(1), inner == 0)
+        call primitive_row(eos, i1 - i0 + 1, q(i0:i1, j, k, i_rho), q(i0:i1, j, k, i_mx), &
+          q(i0:i1, j, k, i_my), q(i0:i1, j, k, i_mz), q(i0:i1, j, k, i_en), &
+          work%prim(i0:i1, j, k, 1), work%prim(i0:i1, j, k, 2), work%prim(i0:i1, j, k, 3), &
+          work%prim(i0:i1, j, k, 4), work%prim(i0:i1, j, k, 5), work%row(i0:i1))
         do m = n_euler + 1, nv
-          work%prim(:, j, k, m) = q(:, j, k, m) / q(:, j, k, i_rho)
+          work%prim(i0:i1, j, k, m) = q(i0:i1, j, k, m) / q(i0:i1, j, k, i_rho)
         end do
       end do
     end do
