@@ -56,7 +56,6 @@ module m_gfm_cut
     integer :: p = 0                              !< the cut phase
     real(wp) :: small = 0.5_wp                    !< cells below this fraction are mixed
     real(wp) :: follow = 1.0_wp                   !< gain of a void's level set towards content
-    real(wp) :: follow_body = 0.1_wp              !< the same for a material body's level set
     type(cut_faces_t), allocatable :: faces(:)    !< (block) geometry of the current stage
     type(fraction_t), allocatable :: ext(:)       !< (block) its fractions into the halo
     type(fraction_t), allocatable :: ext_n(:)     !< (block) the same at the last step's end

@@ -2,9 +2,8 @@
 !> void closes, a wet cell whose centre lies in the void shows a ghost state to the stencils,
 !> so the content its faces bring does not push back; until the void's level set closes it,
 !> it shares content with its wet face neighbours (relax_closing, called by m_gfm_cut's
-!> cut_open on the content of a block as it came from the stage). At the step's end the
-!> level set of each cut cell's surface, a void's or the phase's own material body's,
-!> follows the content, and a void's closes such remnants (cut_follow, called by
+!> cut_open on the content of a block as it came from the stage). A void's level set
+!> follows the content at the step's end and closes such remnants (cut_follow, called by
 !> m_gfm_stage).
 module m_gfm_cut_close
   use m_kinds, only: wp
@@ -129,35 +128,30 @@ contains
     if (u(i_rho) > 0.0_wp) kinetic = 0.5_wp * sum(u(i_mx:i_mz)**2) / u(i_rho)
   end function kinetic
 
-  !> The level set of a cut cell's surface follows the content (manual/theory.md section
-  !> 7c): in each cut cell of block blk, the fraction its content fills at the density of
-  !> its state, f = C_rho / rho (at most 1; content_rho: the cut phase's mass content, whose
-  !> variables start after v0 in q), and the level set's fraction alpha differ by the drift;
-  !> the level set whose surface the cell is on (owner, from ls_region over the padded
-  !> block: a void's, or the phase's own material body's) moves towards the content by
-  !> gain (f - alpha) h (at most h / 4 a step): a void shrinks as the material fills it
-  !> (gain 1), a material body's surface is held back where its content has not followed
-  !> and let out where it has (gain 1/10: at 1 the foot of the 400 m/s Taylor bar, where it
-  !> spreads along the wall, broke up at 6 us; without any follow the bar's level set drifts
-  !> from its content and leaves full cells the content does not fill, theory.md 7c).
-  subroutine cut_follow(blk, ils, v0, ls, owner, alpha, content_rho, gain)
+  !> A void body's level set follows the content (manual/theory.md section 7c): in each cut
+  !> cell of block blk whose surface is a void body's, the fraction its content fills at
+  !> the density of its state, f = C_rho / rho (at most 1; content_rho: the cut phase's mass
+  !> content, whose variables start after v0 in q), and the level set's fraction alpha differ
+  !> by the drift; the void's level set there moves by gain (f - alpha) h (at most h / 4 a
+  !> step), so that the void shrinks as the
+  !> material fills it. A material body's own level set is left as it is: its drift shows
+  !> in its cut cells only and is harmless there (section 7c); a void's decides when and
+  !> where the void closes.
+  subroutine cut_follow(blk, ils, v0, ls, alpha, content_rho, gain)
     type(block_t), intent(inout) :: blk
     integer, intent(in) :: ils, v0   !< q's index before the level sets, the phase's
     type(ls_set_t), intent(in) :: ls
-    integer, intent(in) :: owner(:, :, :)   !< whose surface (ls_region; 0: a void's)
-    real(wp), intent(in) :: alpha(:, :, :), content_rho(:, :, :)
-    real(wp), intent(in) :: gain(2)   !< of a void's level set, of a material body's
+    real(wp), intent(in) :: alpha(:, :, :), content_rho(:, :, :), gain
     real(wp), allocatable :: d(:, :, :, :)
-    integer :: i, j, k, l, lv, o1, o2, o3, m(3), nl, r(3), g(3)
-    real(wp) :: a, f, h, rho, top, w, sgn, g_l
+    integer :: i, j, k, l, lv, o1, o2, o3, m(3), nl, r(3)
+    real(wp) :: a, f, h, rho, top, w
     real(wp), parameter :: remnant = 0.01_wp   !< a closed remnant's centre value (cells)
     real(wp), parameter :: kernel(-1:1) = [0.25_wp, 0.5_wp, 0.25_wp]
-    if (.not. any(ls%kind == ls_void .or. ls%kind == ls_material)) return
+    if (.not. any(ls%kind == ls_void)) return
     h = minval(blk%lay%dx(1:blk%lay%ndim))
     nl = ls%n
     r = merge(1, 0, [1, 2, 3] <= blk%lay%ndim)   ! the kernel's reach along each direction
-    ! each cut cell's move of its surface's level set, d (in cells, the change of that level
-    ! set), one array per level set
+    ! each cut cell's move of its void's level set, d (in cells), one array per level set
     allocate(d(0:blk%n(1)+1, 0:blk%n(2)+1, 0:blk%n(3)+1, nl))
     d = 0.0_wp
     do k = 1, blk%n(3)
@@ -165,43 +159,31 @@ contains
         do i = 1, blk%n(1)
           a = alpha(i, j, k)
           if (.not. a > 0.0_wp) cycle
-          g = [i, j, k] + blk%lay%ng
-          if (owner(g(1), g(2), g(3)) < 0) then
-            ! the phase's own material body: its level set is the phase's (negative inside)
-            lv = -owner(g(1), g(2), g(3))
-            sgn = -1.0_wp
-            g_l = gain(2)
-          else if (owner(g(1), g(2), g(3)) == 0) then
-            ! a void: the one whose surface this is, the largest -phi over the void bodies
-            ! (the phase's level set is -phi there)
-            lv = 0
-            top = -huge(1.0_wp)
-            do l = 1, nl
-              if (ls%kind(l) /= ls_void) cycle
-              if (-blk%q(i, j, k, ils + l) > top) then
-                top = -blk%q(i, j, k, ils + l)
-                lv = l
-              end if
-            end do
-            if (lv == 0) cycle
-            sgn = 1.0_wp
-            g_l = gain(1)
-            if (.not. a < full) then
-              ! every corner of the cell lies in the material, but the void's level set dips
-              ! below zero at its centre: a remnant of the void narrower than the cell. The
-              ! cell is the material's (its centre made so): as a void cell its state would
-              ! be a ghost state and its content, which the fluxes fill, would not push back
-              if (top > 0.0_wp) blk%q(i, j, k, ils + lv) = remnant * h
-              cycle
+          ! the void whose surface this is: the largest -phi over the void bodies
+          lv = 0
+          top = -huge(1.0_wp)
+          do l = 1, nl
+            if (ls%kind(l) /= ls_void) cycle
+            if (-blk%q(i, j, k, ils + l) > top) then
+              top = -blk%q(i, j, k, ils + l)
+              lv = l
             end if
-          else
+          end do
+          ! (a material body's surface, where one lies nearer than the void's)
+          if (any(ls%kind == ls_material .and. blk%q(i, j, k, ils + 1:ils + nl) &
+            < -top)) cycle
+          if (.not. a < full) then
+            ! every corner of the cell lies in the material, but the void's level set dips
+            ! below zero at its centre: a remnant of the void narrower than the cell. The
+            ! cell is the material's (its centre made so): as a void cell its state would be
+            ! a ghost state and its content, which the fluxes fill, would not push back
+            if (top > 0.0_wp) blk%q(i, j, k, ils + lv) = remnant * h
             cycle
           end if
-          if (.not. a < full) cycle
           rho = blk%q(i, j, k, v0 + i_rho)
           if (.not. (rho > 0.0_wp .and. content_rho(i, j, k) > 0.0_wp)) cycle
           f = min(content_rho(i, j, k) / rho, 1.0_wp)
-          d(i, j, k, lv) = sgn * max(-0.25_wp, min(0.25_wp, g_l * (f - a)))
+          d(i, j, k, lv) = max(-0.25_wp, min(0.25_wp, gain * (f - a)))
         end do
       end do
     end do

@@ -322,8 +322,8 @@ contains
           cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
           cut%ext_n(b)%a = cut%ext(b)%a
           ! (before the rest state replaces the states of the cells whose centre is outside)
-          call cut_follow(blk, ph%ils, ph%lo(cut%p) - 1, ls, w%owner(:, :, :, p), f%alpha, &
-            cut%c(:, :, :, i_rho, b), [cut%follow, cut%follow_body])
+          call cut_follow(blk, ph%ils, ph%lo(cut%p) - 1, ls, f%alpha, &
+            cut%c(:, :, :, i_rho, b), cut%follow)
           call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
         end if
       end associate
