@@ -91,25 +91,39 @@ contains
     if (is_set(mat%poly_b)) eos%poly_b = mat%poly_b
   end function eos_from_material
 
-  !> Hugoniot pressure and energy and their derivatives d/drho (eq. 2.4).
-  elemental subroutine hugoniot(eos, rho, ph, eh, dph, deh)
+  !> Hugoniot pressure and energy (eq. 2.4) of a row of densities and, with dph and deh,
+  !> their derivatives d/drho: mu = 1 - rho0 / rho; in compression (mu >= 0)
+  !> p_H = K mu / (1 - s mu)^2, in tension p_H = K (rho / rho0 - 1). One loop without a
+  !> branch, so that it vectorises (as a scalar routine called per cell it was a quarter of a
+  !> solid's run): both sides are evaluated, each with its argument held to its own side
+  !> (max(mu, 0), min(rho, rho0)) so that the side not taken stays finite; the side taken is
+  !> the same arithmetic as before, to the bit.
+  pure subroutine hugoniot(eos, n, rho, ph, eh, dph, deh)
     type(eos_t), intent(in) :: eos
-    real(wp), intent(in) :: rho
-    real(wp), intent(out) :: ph, eh, dph, deh
-    real(wp) :: mu, den, k0, dmu
+    integer, intent(in) :: n
+    real(wp), intent(in) :: rho(n)
+    real(wp), intent(out) :: ph(n), eh(n)
+    real(wp), intent(out), optional :: dph(n), deh(n)
+    real(wp) :: mu, muc, den, k0, dmu
+    integer :: i
     k0 = eos%rho0 * eos%c0**2
-    mu = 1.0_wp - eos%rho0 / rho
-    dmu = eos%rho0 / rho**2
-    if (mu >= 0.0_wp) then
-      den = 1.0_wp - eos%s * mu
-      ph = k0 * mu / den**2
-      dph = k0 * (1.0_wp + eos%s * mu) / den**3 * dmu
-    else
-      ph = k0 * (rho / eos%rho0 - 1.0_wp)
-      dph = k0 / eos%rho0
-    end if
-    eh = 0.5_wp * ph * mu / eos%rho0
-    deh = 0.5_wp * (dph * mu + ph * dmu) / eos%rho0
+    do i = 1, n
+      mu = 1.0_wp - eos%rho0 / rho(i)
+      muc = max(mu, 0.0_wp)
+      den = 1.0_wp - eos%s * muc
+      ph(i) = merge(k0 * muc / den**2, k0 * (min(rho(i), eos%rho0) / eos%rho0 - 1.0_wp), &
+        mu >= 0.0_wp)
+      eh(i) = 0.5_wp * ph(i) * mu / eos%rho0
+    end do
+    if (.not. present(dph)) return
+    do i = 1, n
+      mu = 1.0_wp - eos%rho0 / rho(i)
+      muc = max(mu, 0.0_wp)
+      dmu = eos%rho0 / rho(i)**2
+      den = 1.0_wp - eos%s * muc
+      dph(i) = merge(k0 * (1.0_wp + eos%s * muc) / den**3 * dmu, k0 / eos%rho0, mu >= 0.0_wp)
+      deh(i) = 0.5_wp * (dph(i) * mu + ph(i) * dmu) / eos%rho0
+    end do
   end subroutine hugoniot
 
   subroutine eos_pressure(eos, n, rho, e, p)
@@ -117,7 +131,7 @@ contains
     integer, intent(in) :: n
     real(wp), intent(in) :: rho(n), e(n)
     real(wp), intent(out) :: p(n)
-    real(wp) :: ph, eh, dph, deh
+    real(wp) :: ph(n), eh(n)
     integer :: i
     select case (eos%kind)
     case (eos_ideal_gas)
@@ -129,10 +143,8 @@ contains
         p(i) = poly_cold(eos, rho(i)) + eos%gruneisen * rho(i) * e(i)
       end do
     case default
-      do i = 1, n
-        call hugoniot(eos, rho(i), ph, eh, dph, deh)
-        p(i) = ph + eos%gruneisen * eos%rho0 * (e(i) - eh)
-      end do
+      call hugoniot(eos, n, rho, ph, eh)
+      p = ph + eos%gruneisen * eos%rho0 * (e - eh)
     end select
   end subroutine eos_pressure
 
@@ -141,7 +153,7 @@ contains
     integer, intent(in) :: n
     real(wp), intent(in) :: rho(n), p(n)
     real(wp), intent(out) :: e(n)
-    real(wp) :: ph, eh, dph, deh
+    real(wp) :: ph(n), eh(n)
     integer :: i
     select case (eos%kind)
     case (eos_ideal_gas)
@@ -153,10 +165,8 @@ contains
         e(i) = (p(i) - poly_cold(eos, rho(i))) / (eos%gruneisen * rho(i))
       end do
     case default
-      do i = 1, n
-        call hugoniot(eos, rho(i), ph, eh, dph, deh)
-        e(i) = eh + (p(i) - ph) / (eos%gruneisen * eos%rho0)
-      end do
+      call hugoniot(eos, n, rho, ph, eh)
+      e = eh + (p - ph) / (eos%gruneisen * eos%rho0)
     end select
   end subroutine eos_energy
 
@@ -167,7 +177,7 @@ contains
     integer, intent(in) :: n
     real(wp), intent(in) :: rho(n), p(n)
     real(wp), intent(out) :: c2(n)
-    real(wp) :: ph, eh, dph, deh, g
+    real(wp) :: ph(n), eh(n), dph(n), deh(n), g
     integer :: i
     select case (eos%kind)
     case (eos_ideal_gas)
@@ -182,10 +192,8 @@ contains
       end do
     case default
       g = eos%gruneisen * eos%rho0
-      do i = 1, n
-        call hugoniot(eos, rho(i), ph, eh, dph, deh)
-        c2(i) = dph - g * deh + p(i) * g / rho(i)**2
-      end do
+      call hugoniot(eos, n, rho, ph, eh, dph, deh)
+      c2 = dph - g * deh + p * g / rho**2
     end select
   end subroutine eos_sound_speed2
 
@@ -196,7 +204,7 @@ contains
     integer, intent(in) :: n
     real(wp), intent(in) :: rho(n), e(n)
     real(wp), intent(out) :: T(n)
-    real(wp) :: ph, eh, dph, deh, eta, es
+    real(wp) :: ph(n), eh(n), eta, es
     integer :: i, jlo, jhi
     if (allocated(eos%isentrope)) then
       jlo = lbound(eos%isentrope, 2)
@@ -219,10 +227,8 @@ contains
       end do
     case default
       if (.not. allocated(eos%isentrope)) then
-        do i = 1, n
-          call hugoniot(eos, rho(i), ph, eh, dph, deh)
-          T(i) = eos%T0 + (e(i) - eh) / eos%cv
-        end do
+        call hugoniot(eos, n, rho, ph, eh)
+        T = eos%T0 + (e - eh) / eos%cv
         return
       end if
       do i = 1, n
@@ -330,16 +336,16 @@ contains
     type(eos_t), intent(in) :: eos
     real(wp), intent(in) :: rho, e
     real(wp), intent(out) :: p, dpdrho, dpde
-    real(wp) :: ph, eh, dph, deh
+    real(wp) :: ph(1), eh(1), dph(1), deh(1)
     if (eos%kind == eos_polynomial) then
       dpde = eos%gruneisen * rho
       p = poly_cold(eos, rho) + dpde * e
       dpdrho = poly_dcold(eos, rho) + eos%gruneisen * e
     else
-      call hugoniot(eos, rho, ph, eh, dph, deh)
+      call hugoniot(eos, 1, [rho], ph, eh, dph, deh)
       dpde = eos%gruneisen * eos%rho0
-      p = ph + dpde * (e - eh)
-      dpdrho = dph - dpde * deh
+      p = ph(1) + dpde * (e - eh(1))
+      dpdrho = dph(1) - dpde * deh(1)
     end if
   end subroutine pressure_slopes
 
