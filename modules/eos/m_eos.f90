@@ -171,12 +171,14 @@ contains
   end subroutine eos_energy
 
   !> c^2 = dp/drho|_e + (p / rho^2) dp/de|_rho (eq. 2.5); may be <= 0 for a state that
-  !> is not admissible, which callers test.
-  subroutine eos_sound_speed2(eos, n, rho, p, c2)
+  !> is not admissible, which callers test. With e, also the specific internal energy of each
+  !> state, as eos_energy gives it (the Mie-Gruneisen reference curve evaluated once for both).
+  subroutine eos_sound_speed2(eos, n, rho, p, c2, e)
     type(eos_t), intent(in) :: eos
     integer, intent(in) :: n
     real(wp), intent(in) :: rho(n), p(n)
     real(wp), intent(out) :: c2(n)
+    real(wp), intent(out), optional :: e(n)
     real(wp) :: ph(n), eh(n), dph(n), deh(n), g
     integer :: i
     select case (eos%kind)
@@ -194,7 +196,10 @@ contains
       g = eos%gruneisen * eos%rho0
       call hugoniot(eos, n, rho, ph, eh, dph, deh)
       c2 = dph - g * deh + p * g / rho**2
+      if (present(e)) e = eh + (p - ph) / g
+      return
     end select
+    if (present(e)) call eos_energy(eos, n, rho, p, e)
   end subroutine eos_sound_speed2
 
   !> T = T_s(rho) + (e - e_s(rho)) / cv for the Mie-Gruneisen kinds (eq. 2.11), with T_s in

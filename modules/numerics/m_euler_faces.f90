@@ -4,7 +4,7 @@
 !> they take (numerics_t). Kernels only.
 module m_euler_faces
   use m_kinds, only: wp
-  use m_eos, only: eos_t, eos_sound_speed2, eos_energy
+  use m_eos, only: eos_t, eos_sound_speed2
   use m_characteristic, only: characteristic_work_t, reconstruct_pencils
   use m_flux, only: face_flux, flux_llf_solid
   use m_state, only: n_euler, i_epsp
@@ -87,8 +87,9 @@ contains
       wr(:, n, 2) = 2.0_wp * vwall(2) - wl(:, n, 2)
       if (ns > n_euler) wr(:, n, 7:8) = -wl(:, n, 7:8)
     end if
-    call eos_sound_speed2(eos, nf, wl(:, :, 1), wl(:, :, 5), cl)
-    call eos_sound_speed2(eos, nf, wr(:, :, 1), wr(:, :, 5), cr)
+    ! the sound speeds and the energies of the face states (one EOS pass for both)
+    call eos_sound_speed2(eos, nf, wl(:, :, 1), wl(:, :, 5), cl, el)
+    call eos_sound_speed2(eos, nf, wr(:, :, 1), wr(:, :, 5), cr, er)
     if (.not. all(wl(:, :, 1) > 0.0_wp .and. wr(:, :, 1) > 0.0_wp .and. cl > 0.0_wp &
         .and. cr > 0.0_wp)) then
       do i = 0, n
@@ -98,8 +99,8 @@ contains
           nfallback = nfallback + 1
           wl(b, i, :) = pw(b, i, :)
           wr(b, i, :) = pw(b, i + 1, :)
-          call eos_sound_speed2(eos, 1, wl(b, i, 1), wl(b, i, 5), cl(b, i))
-          call eos_sound_speed2(eos, 1, wr(b, i, 1), wr(b, i, 5), cr(b, i))
+          call eos_sound_speed2(eos, 1, wl(b, i, 1), wl(b, i, 5), cl(b, i), el(b, i))
+          call eos_sound_speed2(eos, 1, wr(b, i, 1), wr(b, i, 5), cr(b, i), er(b, i))
           if (wl(b, i, 1) > 0.0_wp .and. wr(b, i, 1) > 0.0_wp .and. cl(b, i) > 0.0_wp &
             .and. cr(b, i) > 0.0_wp) cycle
           failed = .true.
@@ -115,8 +116,6 @@ contains
     end if
     cl = sqrt(max(cl, 0.0_wp))
     cr = sqrt(max(cr, 0.0_wp))
-    call eos_energy(eos, nf, wl(:, :, 1), wl(:, :, 5), el)
-    call eos_energy(eos, nf, wr(:, :, 1), wr(:, :, 5), er)
     if (ns > n_euler) then
       call flux_llf_solid(nf, ns, up, wl, wr, el, er, cl, cr, f, surf)
     else
