@@ -18,10 +18,9 @@
 !> differ from run to run; the fields do not.
 module m_rebalance
   use m_kinds, only: wp, line_len
-  use m_simulation, only: sim_t, sim_faces_only
+  use m_simulation, only: sim_t, sim_plan
   use m_blocks, only: block_t, blocks_allocate
   use m_euler, only: cut_faces_t
-  use m_halo, only: halo_plan_build
   use m_partition, only: partition_owner
   use m_balance, only: balance_imbalance, balance_loads, balance_rank_work, balance_weights, &
     balance_relabel, balance_start, balance_note, balance_note_move, balance_gain
@@ -183,7 +182,7 @@ contains
           recvbuf(:, m))
       end do
     end do
-    call halo_plan_build(sim%lay, sim%blocks, sim%plan, sim_faces_only(sim))
+    call sim_plan(sim)
   end subroutine migrate
 
   !> This rank's blocks and their per-block parts, taken out of sim.

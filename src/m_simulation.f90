@@ -11,7 +11,7 @@
 module m_simulation
   use m_kinds, only: wp, name_len
   use m_config, only: config_t, material_t, material_index, is_set
-  use m_layout, only: layout_t, layout_init, block_offset, block_extent
+  use m_layout, only: layout_t, layout_init, block_offset, block_extent, n_halo
   use m_blocks, only: block_t, blocks_allocate
   use m_halo, only: halo_plan_t, halo_plan_build
   use m_partition, only: partition_blocks
@@ -23,7 +23,7 @@ module m_simulation
   use m_fallback, only: counters_t
   use m_gfm_conserve, only: fix_t, fix_setup
   use m_gfm_cut, only: cut_t, cut_setup
-  use m_reconstruct, only: scheme_from_name
+  use m_reconstruct, only: scheme_from_name, stencil_reach
   use m_characteristic, only: variables_from_name
   use m_flux, only: flux_from_name, scalar_flux_from_name
   use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status, scene_generate
@@ -41,7 +41,7 @@ module m_simulation
   use m_conduction, only: conduction_rate
   implicit none
   private
-  public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, sim_rate, sim_faces_only
+  public :: sim_t, sim_setup, sim_paint_initial_state, sim_block_work, sim_rate, sim_plan
 
   !> Depth of the ghost band in cells: the reach (3) of the ENO3 and WENO5 stencils of a real
   !> cell next to the surface, and a half cell for oblique surfaces.
@@ -148,7 +148,7 @@ contains
     work = predicted_work(sim)
     call partition_blocks(sim%lay, work)
     call blocks_allocate(sim%lay, comm_rank(), sim%ph%nvar, sim%blocks)
-    call halo_plan_build(sim%lay, sim%blocks, sim%plan, sim_faces_only(sim))
+    call sim_plan(sim)
     sim%bal%threshold = cfg%rebalance_threshold
     sim%bal%every = cfg%rebalance_every
     call balance_start(sim%bal, size(sim%blocks))
@@ -563,13 +563,18 @@ contains
     end do
   end function predicted_work
 
-  !> Whether the halo plan needs the blocks' faces only (m_halo's faces_only): a scene without
-  !> level sets (whose derivatives and ghost fill reach diagonally) and without heat
-  !> conduction (its temperature is made over the whole padded block), where every stencil
-  !> runs along one direction and nothing reads a halo's edges and corners.
-  logical function sim_faces_only(sim) result(faces)
-    type(sim_t), intent(in) :: sim
-    faces = sim%ls%n == 0 .and. .not. sim%cfg%heat_conduction
-  end function sim_faces_only
+  !> The halo plan of this rank's blocks (m_halo), built again after a migration. A scene
+  !> without level sets (whose derivatives and ghost fill reach diagonally and 4 cells deep)
+  !> and without heat conduction or reaction (their temperature is made over the whole padded
+  !> block, m_phase_heat) has
+  !> every stencil along one direction and no deeper than the reconstruction's: its plan
+  !> holds the faces only, stencil_reach (3) cells deep, and nothing reads the rest.
+  subroutine sim_plan(sim)
+    type(sim_t), intent(inout) :: sim
+    logical :: faces
+    faces = sim%ls%n == 0 .and. .not. (sim%cfg%heat_conduction .or. sim%cfg%reaction)
+    call halo_plan_build(sim%lay, sim%blocks, sim%plan, faces, &
+      merge(stencil_reach, n_halo, faces))
+  end subroutine sim_plan
 
 end module m_simulation

@@ -17,6 +17,7 @@ module m_euler
   use m_characteristic, only: characteristic_work_t, characteristic_work_init
   use m_flux, only: scalar_flux_upwind
   use m_euler_faces, only: numerics_t, faces_and_fluxes
+  use m_reconstruct, only: stencil_reach
   use m_yield, only: strength_t
   use m_elastoplastic, only: primitive_row, stress_rates
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid, i_sxx, i_syy, i_szz, &
@@ -118,8 +119,9 @@ contains
     integer :: inner, i0, i1   !< directions of (j, k) outside the interior; the row's cells
     logical :: split
     real(wp) :: rdx, r
-    lo = 1 - lay%ng
-    hi = lay%bsize + lay%ng
+    ! (the cells a stencil reaches: a halo deeper than that is not read here)
+    lo = 1 - min(lay%ng, stencil_reach)
+    hi = lay%bsize + min(lay%ng, stencil_reach)
     nv = size(q, 4)
     ! the Euler or solid variables; one more is rho lambda (reaction)
     ns = merge(n_solid, n_euler, nv >= n_solid)

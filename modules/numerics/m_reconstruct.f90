@@ -12,7 +12,11 @@ module m_reconstruct
   implicit none
   private
   public :: scheme_eno1, scheme_eno2, scheme_eno3, scheme_weno5, scheme_from_name, scheme_names
-  public :: reconstruct_faces, bound_faces, bound_weight
+  public :: reconstruct_faces, bound_faces, bound_weight, stencil_reach
+
+  !> how far beyond a pencil's ends its reconstruction reads: the face values of cells
+  !> 0 .. n + 1 take cells -2 .. n + 3 (ENO3, WENO5 and the characteristic transform alike)
+  integer, parameter :: stencil_reach = 3
 
   integer, parameter :: scheme_eno1 = 1, scheme_eno2 = 2, scheme_eno3 = 3, scheme_weno5 = 5
   !> the deck's names of the schemes (&numerics scheme), in the order of scheme_codes

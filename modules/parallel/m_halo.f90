@@ -67,16 +67,19 @@ contains
 
   !> Cell box of block id for direction dir: the halo to fill (role = 'h'), or the interior
   !> cells that a neighbour in direction dir needs from it (role = 's').
-  pure subroutine halo_region(lay, id, dir, role, lo, hi)
+  !> depth: the cells exchanged across a face when less than the halo (a plan's depth).
+  pure subroutine halo_region(lay, id, dir, role, lo, hi, depth)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: id, dir(3)
     character, intent(in) :: role
     integer, intent(out) :: lo(3), hi(3)
+    integer, intent(in), optional :: depth
     integer :: d, n, g, ext(3)
     ext = block_extent(lay, id)
     do d = 1, 3
       n = ext(d)
       g = lay%ng(d)
+      if (present(depth)) g = min(g, depth)
       select case (dir(d))
       case (-1)
         if (role == 'h') then
@@ -101,11 +104,14 @@ contains
   !> enough where every stencil runs along one direction (the flow and strength kernels;
   !> not the level sets' and ghost fill's, m_simulation says when), at 79 % of the copies
   !> for blocks of 32^3. Every rank builds its plan the same way.
-  subroutine halo_plan_build(lay, blocks, plan, faces_only)
+  subroutine halo_plan_build(lay, blocks, plan, faces_only, depth)
     type(layout_t), intent(in) :: lay
     type(block_t), intent(in) :: blocks(:)
     type(halo_plan_t), intent(inout) :: plan
     logical, intent(in), optional :: faces_only
+    !> cells exchanged across each face, when less than the halo's depth (the rest of the
+    !> halo is then never filled: for a scene whose stencils reach no further)
+    integer, intent(in), optional :: depth
     integer :: me, b, nbr, dir(3), di, dj, dk, p, r, k, kdir, nb, maxs, maxr, nvq
     integer, allocatable :: local_of(:), pindex(:), ranks(:), capacity(:)
     type(piece_t) :: pc
@@ -151,8 +157,8 @@ contains
             if (nbr <= 0) cycle
             kdir = 1 + (di + 1) + 3 * (dj + 1) + 9 * (dk + 1)
             pc%local = b
-            call halo_region(lay, blocks(b)%id, dir, 'h', pc%lo, pc%hi)
-            call halo_region(lay, nbr, -dir, 's', pc%slo, pc%shi)
+            call halo_region(lay, blocks(b)%id, dir, 'h', pc%lo, pc%hi, depth)
+            call halo_region(lay, nbr, -dir, 's', pc%slo, pc%shi, depth)
             if (lay%owner(nbr) == me) then
               pc%src_local = local_of(nbr)
               plan%ncopy = plan%ncopy + 1
@@ -164,7 +170,7 @@ contains
               pc%key2 = kdir
               plan%partner(r)%recv = [plan%partner(r)%recv, pc]
               ! what the neighbour needs from this block: its halo in direction -dir
-              call halo_region(lay, blocks(b)%id, dir, 's', pc%lo, pc%hi)
+              call halo_region(lay, blocks(b)%id, dir, 's', pc%lo, pc%hi, depth)
               pc%key1 = nbr
               pc%key2 = 1 + (1 - di) + 3 * (1 - dj) + 9 * (1 - dk)
               plan%partner(r)%send = [plan%partner(r)%send, pc]
