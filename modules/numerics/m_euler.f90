@@ -116,7 +116,7 @@ contains
     !> the phase's cut-cell geometry: rhs is the rate of its content (m_gfm_cut)
     type(cut_faces_t), intent(in), optional :: cut
     integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nb, nv, m, c, nc, ns, mb
-    integer :: inner, i0, i1   !< directions of (j, k) outside the interior; the row's cells
+    integer :: outside, i0, i1   !< directions of (j, k) outside the interior; the row's cells
     logical :: split
     real(wp) :: rdx, r
     ! (the cells a stencil reaches: a halo deeper than that is not read here)
@@ -132,10 +132,10 @@ contains
     ! does not fill them, m_halo)
     do k = lo(3), hi(3)
       do j = lo(2), hi(2)
-        inner = count([j < 1 .or. j > lay%bsize(2), k < 1 .or. k > lay%bsize(3)])
-        if (inner == 2) cycle
-        i0 = merge(lo(1), 1, inner == 0)
-        i1 = merge(hi(1), lay%bsize(1), inner == 0)
+        outside = count([j < 1 .or. j > lay%bsize(2), k < 1 .or. k > lay%bsize(3)])
+        if (outside == 2) cycle
+        i0 = merge(lo(1), 1, outside == 0)
+        i1 = merge(hi(1), lay%bsize(1), outside == 0)
         call primitive_row(eos, i1 - i0 + 1, q(i0:i1, j, k, i_rho), q(i0:i1, j, k, i_mx), &
           q(i0:i1, j, k, i_my), q(i0:i1, j, k, i_mz), q(i0:i1, j, k, i_en), &
           work%prim(i0:i1, j, k, 1), work%prim(i0:i1, j, k, 2), work%prim(i0:i1, j, k, 3), &

@@ -396,36 +396,11 @@ contains
     integer, intent(in) :: m1, nvar
     integer :: shi(3)
     shi = pc%slo + pc%hi - pc%lo
-    if (pc%local /= pc%src_local) then
-      call copy_box(lbound(blocks(pc%local)%q), blocks(pc%local)%q, blocks(pc%src_local)%q, &
-        pc%lo, pc%hi, pc%slo - pc%lo, m1, nvar)
-      return
-    end if
-    associate (lo => pc%lo, hi => pc%hi, slo => pc%slo, q => blocks(pc%local)%q)
-      q(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), m1:nvar) = &
-        q(slo(1):shi(1), slo(2):shi(2), slo(3):shi(3), m1:nvar)
+    associate (lo => pc%lo, hi => pc%hi, slo => pc%slo, dst => blocks(pc%local)%q, &
+        src => blocks(pc%src_local)%q)
+      dst(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), m1:nvar) = &
+        src(slo(1):shi(1), slo(2):shi(2), slo(3):shi(3), m1:nvar)
     end associate
   end subroutine copy_piece
-
-  !> dst(box lo..hi, m1..nvar) = src(the box shifted by o), two distinct blocks' arrays:
-  !> as separate arguments they cannot overlap, so the rows are copied as they are (an
-  !> array assignment between two blocks of one array of blocks was checked for overlap
-  !> and copied element by element, at twice the time).
-  subroutine copy_box(l, dst, src, lo, hi, o, m1, nvar)
-    integer, intent(in) :: l(4)   !< the arrays' lower bounds
-    real(wp), intent(inout) :: dst(l(1):, l(2):, l(3):, l(4):)
-    real(wp), intent(in) :: src(l(1):, l(2):, l(3):, l(4):)
-    integer, intent(in) :: lo(3), hi(3), o(3), m1, nvar
-    integer :: i, j, k, m
-    do m = m1, nvar
-      do k = lo(3), hi(3)
-        do j = lo(2), hi(2)
-          do i = lo(1), hi(1)
-            dst(i, j, k, m) = src(i + o(1), j + o(2), k + o(3), m)
-          end do
-        end do
-      end do
-    end do
-  end subroutine copy_box
 
 end module m_halo
