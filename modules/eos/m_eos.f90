@@ -50,6 +50,10 @@ module m_eos
   real(wp), parameter :: isentrope_eta_max = 0.6_wp
   real(wp), parameter :: hugoniot_denominator_min = 0.1_wp
   integer, parameter :: rk4_substeps = 10
+  !> the row routines take the Mie-Gruneisen reference curve in pieces of this many cells, so
+  !> that its scratch is fixed-size (on the stack): an automatic array sized by the row is a
+  !> malloc and a free per call, 4 % of a gas run's time before this
+  integer, parameter :: row_chunk = 64
 
   type :: eos_t
     integer :: kind = eos_ideal_gas
@@ -93,9 +97,9 @@ contains
 
   !> Hugoniot pressure and energy (eq. 2.4) of a row of densities and, with dph and deh,
   !> their derivatives d/drho: mu = 1 - rho0 / rho; in compression (mu >= 0)
-  !> p_H = K mu / (1 - s mu)^2, in tension p_H = K (rho / rho0 - 1). One loop without a
-  !> branch, so that it vectorises (as a scalar routine called per cell it was a quarter of a
-  !> solid's run): both sides are evaluated, each with its argument held to its own side
+  !> p_H = K mu / (1 - s mu)^2, in tension p_H = K (rho / rho0 - 1). Loops without a branch,
+  !> so that they vectorise (as a scalar routine called per cell it was a quarter of a solid's
+  !> run): both sides are evaluated, each with its argument held to its own side
   !> (max(mu, 0), min(rho, rho0)) so that the side not taken stays finite; the side taken is
   !> the same arithmetic as before, to the bit.
   pure subroutine hugoniot(eos, n, rho, ph, eh, dph, deh)
@@ -107,12 +111,18 @@ contains
     real(wp) :: mu, muc, den, k0, dmu
     integer :: i
     k0 = eos%rho0 * eos%c0**2
+    ! the compressed and the expanded branch into ph and eh first, the choice after: a division
+    ! under a condition is a branch to the compiler, which then does not vectorise the loop
     do i = 1, n
       mu = 1.0_wp - eos%rho0 / rho(i)
       muc = max(mu, 0.0_wp)
       den = 1.0_wp - eos%s * muc
-      ph(i) = merge(k0 * muc / den**2, k0 * (min(rho(i), eos%rho0) / eos%rho0 - 1.0_wp), &
-        mu >= 0.0_wp)
+      ph(i) = k0 * muc / den**2
+      eh(i) = k0 * (min(rho(i), eos%rho0) / eos%rho0 - 1.0_wp)
+    end do
+    do i = 1, n
+      mu = 1.0_wp - eos%rho0 / rho(i)
+      ph(i) = merge(ph(i), eh(i), mu >= 0.0_wp)
       eh(i) = 0.5_wp * ph(i) * mu / eos%rho0
     end do
     if (.not. present(dph)) return
@@ -121,7 +131,12 @@ contains
       muc = max(mu, 0.0_wp)
       dmu = eos%rho0 / rho(i)**2
       den = 1.0_wp - eos%s * muc
-      dph(i) = merge(k0 * (1.0_wp + eos%s * muc) / den**3 * dmu, k0 / eos%rho0, mu >= 0.0_wp)
+      dph(i) = k0 * (1.0_wp + eos%s * muc) / den**3 * dmu
+    end do
+    do i = 1, n
+      mu = 1.0_wp - eos%rho0 / rho(i)
+      dmu = eos%rho0 / rho(i)**2
+      dph(i) = merge(dph(i), k0 / eos%rho0, mu >= 0.0_wp)
       deh(i) = 0.5_wp * (dph(i) * mu + ph(i) * dmu) / eos%rho0
     end do
   end subroutine hugoniot
@@ -131,8 +146,8 @@ contains
     integer, intent(in) :: n
     real(wp), intent(in) :: rho(n), e(n)
     real(wp), intent(out) :: p(n)
-    real(wp) :: ph(n), eh(n)
-    integer :: i
+    real(wp) :: ph(row_chunk), eh(row_chunk)
+    integer :: i, i0, m
     select case (eos%kind)
     case (eos_ideal_gas)
       p = (eos%gamma - 1.0_wp) * rho * e
@@ -143,8 +158,11 @@ contains
         p(i) = poly_cold(eos, rho(i)) + eos%gruneisen * rho(i) * e(i)
       end do
     case default
-      call hugoniot(eos, n, rho, ph, eh)
-      p = ph + eos%gruneisen * eos%rho0 * (e - eh)
+      do i0 = 1, n, row_chunk
+        m = min(row_chunk, n - i0 + 1)
+        call hugoniot(eos, m, rho(i0:), ph, eh)
+        p(i0:i0+m-1) = ph(1:m) + eos%gruneisen * eos%rho0 * (e(i0:i0+m-1) - eh(1:m))
+      end do
     end select
   end subroutine eos_pressure
 
@@ -153,8 +171,8 @@ contains
     integer, intent(in) :: n
     real(wp), intent(in) :: rho(n), p(n)
     real(wp), intent(out) :: e(n)
-    real(wp) :: ph(n), eh(n)
-    integer :: i
+    real(wp) :: ph(row_chunk), eh(row_chunk)
+    integer :: i, i0, m
     select case (eos%kind)
     case (eos_ideal_gas)
       e = p / ((eos%gamma - 1.0_wp) * rho)
@@ -165,8 +183,11 @@ contains
         e(i) = (p(i) - poly_cold(eos, rho(i))) / (eos%gruneisen * rho(i))
       end do
     case default
-      call hugoniot(eos, n, rho, ph, eh)
-      e = eh + (p - ph) / (eos%gruneisen * eos%rho0)
+      do i0 = 1, n, row_chunk
+        m = min(row_chunk, n - i0 + 1)
+        call hugoniot(eos, m, rho(i0:), ph, eh)
+        e(i0:i0+m-1) = eh(1:m) + (p(i0:i0+m-1) - ph(1:m)) / (eos%gruneisen * eos%rho0)
+      end do
     end select
   end subroutine eos_energy
 
@@ -179,8 +200,8 @@ contains
     real(wp), intent(in) :: rho(n), p(n)
     real(wp), intent(out) :: c2(n)
     real(wp), intent(out), optional :: e(n)
-    real(wp) :: ph(n), eh(n), dph(n), deh(n), g
-    integer :: i
+    real(wp) :: ph(row_chunk), eh(row_chunk), dph(row_chunk), deh(row_chunk), g
+    integer :: i, i0, i1, m
     select case (eos%kind)
     case (eos_ideal_gas)
       c2 = eos%gamma * p / rho
@@ -194,9 +215,13 @@ contains
       end do
     case default
       g = eos%gruneisen * eos%rho0
-      call hugoniot(eos, n, rho, ph, eh, dph, deh)
-      c2 = dph - g * deh + p * g / rho**2
-      if (present(e)) e = eh + (p - ph) / g
+      do i0 = 1, n, row_chunk
+        m = min(row_chunk, n - i0 + 1)
+        i1 = i0 + m - 1
+        call hugoniot(eos, m, rho(i0:), ph, eh, dph, deh)
+        c2(i0:i1) = dph(1:m) - g * deh(1:m) + p(i0:i1) * g / rho(i0:i1)**2
+        if (present(e)) e(i0:i1) = eh(1:m) + (p(i0:i1) - ph(1:m)) / g
+      end do
       return
     end select
     if (present(e)) call eos_energy(eos, n, rho, p, e)
@@ -209,8 +234,8 @@ contains
     integer, intent(in) :: n
     real(wp), intent(in) :: rho(n), e(n)
     real(wp), intent(out) :: T(n)
-    real(wp) :: ph(n), eh(n), eta, es
-    integer :: i, jlo, jhi
+    real(wp) :: ph(row_chunk), eh(row_chunk), eta, es
+    integer :: i, jlo, jhi, i0, m
     if (allocated(eos%isentrope)) then
       jlo = lbound(eos%isentrope, 2)
       jhi = ubound(eos%isentrope, 2)
@@ -232,8 +257,11 @@ contains
       end do
     case default
       if (.not. allocated(eos%isentrope)) then
-        call hugoniot(eos, n, rho, ph, eh)
-        T = eos%T0 + (e - eh) / eos%cv
+        do i0 = 1, n, row_chunk
+          m = min(row_chunk, n - i0 + 1)
+          call hugoniot(eos, m, rho(i0:), ph, eh)
+          T(i0:i0+m-1) = eos%T0 + (e(i0:i0+m-1) - eh(1:m)) / eos%cv
+        end do
         return
       end if
       do i = 1, n

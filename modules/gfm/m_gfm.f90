@@ -221,7 +221,7 @@ contains
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     type(gfm_work_t), intent(inout) :: work
     type(gfm_counts_t), intent(inout) :: counts
-    integer :: lo(3), hi(3), i, j, k, npts, d, nd, k3(3), nflow, off, pk, o
+    integer :: lo(3), hi(3), i, j, k, npts, d, nd, k3(3), nflow, off, pk, o, m
     real(wp) :: qrest(scn%nflow), grad(3), s(3), wi(scn%nflow), wg(scn%nflow), wk(scn%nflow)
     real(wp) :: c2(1), phi_p, dist, pstar
     logical :: complete, collision
@@ -231,16 +231,23 @@ contains
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
     qrest = rest_state(scn%eos(p), nflow, scn%rest(:, p))
+    ! the cells beyond the band take the rest state, variable by variable (a cell's variables
+    ! lie a block apart: masked rows that vectorise); nothing below reads them
+    do m = 1, nflow
+      do k = 1, lay%bsize(3)
+        do j = 1, lay%bsize(2)
+          do i = 1, lay%bsize(1)
+            if (work%bigphi(i, j, k, p) > scn%band) q(i, j, k, off + m) = qrest(m)
+          end do
+        end do
+      end do
+    end do
     ! (no associate names for the sections of work: they would start at 1, not at lo)
     do k = 1, lay%bsize(3)
       do j = 1, lay%bsize(2)
         do i = 1, lay%bsize(1)
           phi_p = work%bigphi(i, j, k, p)
-          if (phi_p < 0.0_wp) cycle
-          if (phi_p > scn%band) then
-            q(i, j, k, off+1:off+nflow) = qrest
-            cycle
-          end if
+          if (phi_p < 0.0_wp .or. phi_p > scn%band) cycle
           counts%ghosts = counts%ghosts + 1
           k3 = [i, j, k]
           grad = levelset_gradient_at(nd, lay%dx, lo, hi, work%bigphi(:, :, :, p), i, j, k)
@@ -389,7 +396,7 @@ contains
     type(ls_set_t), intent(in) :: set
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     type(gfm_work_t), intent(inout) :: work
-    integer :: lo(3), hi(3), i, j, k, p, off, ils
+    integer :: lo(3), hi(3), i, j, k, m, p, off, ils
     real(wp) :: qrest(scn%nflow)
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
@@ -400,11 +407,13 @@ contains
         work%owner(:, :, :, p))
       if (all(work%bigphi(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), p) < 0.0_wp)) cycle
       qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))
-      do k = 1, lay%bsize(3)
-        do j = 1, lay%bsize(2)
-          do i = 1, lay%bsize(1)
-            if (work%bigphi(i, j, k, p) < 0.0_wp) cycle
-            q(i, j, k, off+1:off+scn%nflow) = qrest
+      ! variable by variable (a cell's variables lie a block apart): masked rows that vectorise
+      do m = 1, scn%nflow
+        do k = 1, lay%bsize(3)
+          do j = 1, lay%bsize(2)
+            do i = 1, lay%bsize(1)
+              if (.not. work%bigphi(i, j, k, p) < 0.0_wp) q(i, j, k, off + m) = qrest(m)
+            end do
           end do
         end do
       end do

@@ -114,7 +114,8 @@ contains
     logical, intent(inout) :: failed
     logical, intent(in), optional :: trouble(:, :, :)
     real(wp), allocatable :: wet(:, :, :)
-    integer :: lo(3), hi(3), e(3)
+    integer :: lo(3), hi(3), e(3), box(2, 3)
+    logical :: near(blk%n(1), blk%n(2), blk%n(3))
     if (ls%n > 0 .and. (ph%strong(p) .or. p == cut%p)) then
       lo = 1 - blk%lay%ng
       hi = blk%n + blk%lay%ng
@@ -123,13 +124,21 @@ contains
       gf%work%isreal(:, :, :, p) = gf%work%bigphi(:, :, :, p) < 0.0_wp
       ! a phase absent from the block (every cell more than two cells beyond its region, so
       ! that no cell can turn real in the stage) is not computed: its cells go to the rest
-      ! state after the update anyway (gfm_rest); so the cost follows the phases present
-      if (.not. cut%on .and. minval(gf%work%bigphi(1:blk%n(1), 1:blk%n(2), 1:blk%n(3), p)) &
-          > 2.0_wp * maxval(blk%lay%dx(1:blk%lay%ndim))) then
-        blk%rhs(:, :, :, ph%lo(p):ph%hi(p)) = 0.0_wp
-        if (fix%on) fix%bflux(:, p, b, stage) = 0.0_wp
-        gf%counts%absent = gf%counts%absent + 1
-        return
+      ! state after the update anyway (gfm_rest); so the cost follows the phases present.
+      ! Where it is present, only the box of its cells within two cells of its region is
+      ! (the rest of the block again holds its rest state after the update).
+      box(1, :) = 1
+      box(2, :) = blk%n
+      if (.not. cut%on) then
+        near = gf%work%bigphi(1:blk%n(1), 1:blk%n(2), 1:blk%n(3), p) &
+          <= 2.0_wp * maxval(blk%lay%dx(1:blk%lay%ndim))
+        if (.not. any(near)) then
+          blk%rhs(:, :, :, ph%lo(p):ph%hi(p)) = 0.0_wp
+          if (fix%on) fix%bflux(:, p, b, stage) = 0.0_wp
+          gf%counts%absent = gf%counts%absent + 1
+          return
+        end if
+        box = bounding_box(near)
       end if
       if (p == cut%p) then
         ! the cut-cell phase: the rate of its content, fluxes times the wet faces; every
@@ -150,7 +159,7 @@ contains
       end if
       call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
         blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
-        gf%work%bigphi(:, :, :, p), trouble)
+        gf%work%bigphi(:, :, :, p), trouble, box=box)
       if (fix%on) fix%bflux(:, p, b, stage) = work%bflux
     else
       call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
@@ -158,6 +167,29 @@ contains
         trouble=trouble)
     end if
   end subroutine phase_rhs
+
+  !> The smallest box (low, high corner) that holds every true cell of mask (one at least).
+  pure function bounding_box(mask) result(box)
+    logical, intent(in) :: mask(:, :, :)
+    integer :: box(2, 3), d, i
+    logical :: hit
+    do d = 1, 3
+      box(:, d) = [size(mask, d) + 1, 0]
+      do i = 1, size(mask, d)
+        select case (d)
+        case (1)
+          hit = any(mask(i, :, :))
+        case (2)
+          hit = any(mask(:, i, :))
+        case default
+          hit = any(mask(:, :, i))
+        end select
+        if (.not. hit) cycle
+        box(1, d) = min(box(1, d), i)
+        box(2, d) = i
+      end do
+    end do
+  end function bounding_box
 
   !> After the stage update of block blk: the radial return of every phase with strength
   !> (with a surface, on its real cells, a cell that has just turned real brought to the

@@ -156,7 +156,8 @@ contains
     end do
   end subroutine boundary_walls
 
-  !> Halo boxes with no source block take the value of the nearest interior cell.
+  !> Halo boxes with no source block take the value of the nearest interior cell, where no
+  !> side condition writes over them (boundary_apply: the side conditions follow).
   subroutine clamp_fill(lay, blk, m1, nvar)
     type(layout_t), intent(in) :: lay
     type(block_t), intent(inout) :: blk
@@ -171,6 +172,12 @@ contains
           if (di == 0 .and. dj == 0 .and. dk == 0) cycle
           nbr = block_neighbor(lay, blk%id, [di, dj, dk])
           if (nbr > 0) cycle
+          ! a box beyond a side of the domain (or a wall) in one of its directions is written
+          ! over by that side's condition (face_fill, over the whole extent of the other
+          ! directions, the directions in order, each reading only cells inside along its
+          ! own): the final values never depend on a clamp there. Only a box whose faces all
+          ! have neighbours (an inactive block across an edge or a corner) keeps the clamp.
+          if (beyond_side([di, dj, dk])) cycle
           lo = merge(1 - g, merge(1, n + 1, [di, dj, dk] == 0), [di, dj, dk] < 0)
           hi = merge(0 * g, merge(n, n + g, [di, dj, dk] == 0), [di, dj, dk] < 0)
           do m = m1, nvar
@@ -186,6 +193,21 @@ contains
         end do
       end do
     end do
+
+  contains
+
+    logical function beyond_side(dir) result(yes)
+      integer, intent(in) :: dir(3)
+      integer :: dd, e(3)
+      yes = .false.
+      do dd = 1, 3
+        if (dir(dd) == 0) cycle
+        e = 0
+        e(dd) = dir(dd)
+        yes = yes .or. block_neighbor(lay, blk%id, e) <= 0
+      end do
+    end function beyond_side
+
   end subroutine clamp_fill
 
   !> One face of a block (lay: its view, m_layout), side s (-1 low, +1 high) of direction d,
@@ -200,8 +222,9 @@ contains
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(in) :: vwall
     logical, intent(in) :: linear_ls   !< level sets (after np phases) continue linearly
-    integer :: lo(3), hi(3), i, j, k, m, n, src(3), imom, p, o, inner(3), l(3)
+    integer :: lo(3), hi(3), i, j, k, m, n, imom, p, o, is
     real(wp) :: rho, un_old, un_new
+    logical :: linear
     n = lay%bsize(d)
     lo = 1 - lay%ng
     hi = lay%bsize + lay%ng
@@ -212,26 +235,30 @@ contains
     end if
     imom = i_mx + d - 1
     do m = m1, nvar
+      ! a level set continues linearly beyond an outflow side
+      linear = kind == bc_outflow .and. m > np * nflow .and. n > 1 .and. linear_ls
       do k = lo(3), hi(3)
         do j = lo(2), hi(2)
-          do i = lo(1), hi(1)
-            src = [i, j, k]
-            if (kind == bc_outflow .and. m > np * nflow .and. n > 1 .and. linear_ls) then
-              ! a level set continues linearly beyond an outflow side
-              src(d) = merge(1, n, s < 0)
-              inner = src
-              inner(d) = merge(2, n - 1, s < 0)
-              l = abs([i, j, k] - src)
-              q(i, j, k, m) = q(src(1), src(2), src(3), m) + real(l(d), wp) &
-                * (q(src(1), src(2), src(3), m) - q(inner(1), inner(2), inner(3), m))
-              cycle
-            else if (kind == bc_outflow) then
-              src(d) = merge(1, n, s < 0)
-            else
-              src(d) = merge(1 - src(d), 2 * n + 1 - src(d), s < 0)
-            end if
-            q(i, j, k, m) = q(src(1), src(2), src(3), m)
-          end do
+          select case (d)
+          case (1)
+            do i = lo(1), hi(1)
+              is = source_cell(i)
+              if (linear) then
+                q(i, j, k, m) = q(is, j, k, m) + real(abs(i - is), wp) &
+                  * (q(is, j, k, m) - q(inner_cell(), j, k, m))
+              else
+                q(i, j, k, m) = q(is, j, k, m)
+              end if
+            end do
+          case (2)
+            is = source_cell(j)
+            call take_row(q(lo(1):hi(1), j, k, m), q(lo(1):hi(1), is, k, m), &
+              q(lo(1):hi(1), inner_cell(), k, m), abs(j - is))
+          case default
+            is = source_cell(k)
+            call take_row(q(lo(1):hi(1), j, k, m), q(lo(1):hi(1), j, is, m), &
+              q(lo(1):hi(1), j, inner_cell(), m), abs(k - is))
+          end select
         end do
       end do
     end do
@@ -263,6 +290,38 @@ contains
         end do
       end do
     end do
+
+  contains
+
+    !> the cell along d whose value halo cell x takes: the side's cell (outflow, and the
+    !> level sets' linear continuation) or x's mirror image (every other kind)
+    integer function source_cell(x) result(c)
+      integer, intent(in) :: x
+      if (kind == bc_outflow) then
+        c = merge(1, n, s < 0)
+      else
+        c = merge(1 - x, 2 * n + 1 - x, s < 0)
+      end if
+    end function source_cell
+
+    !> a halo row (y or z side) from its source row: a copy, or (linear) the source row
+    !> continued by l times its difference from the row inside it
+    subroutine take_row(row, src, inner, l)
+      real(wp), intent(out) :: row(:)
+      real(wp), intent(in) :: src(:), inner(:)
+      integer, intent(in) :: l
+      if (linear) then
+        row = src + real(l, wp) * (src - inner)
+      else
+        row = src
+      end if
+    end subroutine take_row
+
+    !> the second cell in from the side: the slope of the linear continuation
+    integer function inner_cell() result(c)
+      c = merge(2, n - 1, s < 0)
+    end function inner_cell
+
   end subroutine face_fill
 
   !> The ghost cells of a set of variables (ghosts_all, ghosts_flow, ghosts_level_sets) on

@@ -39,48 +39,52 @@ contains
   !> The non-conservative part of the stress equation (manual/theory.md eq. 5.1):
   !> d(rho S)/dt += rho (2 G D' + W S - S W) (m_plasticity's jaumann_source), with the velocity
   !> gradient L = grad u by central differences; in axisymmetric geometry L_theta theta = u_r / r.
-  subroutine stress_rates(lay, st, offset, prim, rhs, fraction)
+  subroutine stress_rates(lay, st, offset, box, prim, rhs, fraction)
     type(layout_t), intent(in) :: lay
     type(strength_t), intent(in) :: st
     integer, intent(in) :: offset(3)
+    integer, intent(in) :: box(2, 3)   !< the cells (low, high corner) whose rates are made
     real(wp), intent(in) :: prim(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(inout) :: rhs(:, :, :, :)
     !> a cut phase's volume fractions: the rates are those of its content (m_gfm_cut)
     real(wp), intent(in), optional :: fraction(:, :, :)
-    real(wp) :: l(lay%bsize(1), 3, 3), sdev(lay%bsize(1), 6), src(lay%bsize(1), 6), h(3)
-    integer :: i, j, k, a, b, c, dir(3), n
-    n = lay%bsize(1)
+    real(wp) :: l(box(2, 1) - box(1, 1) + 1, 3, 3), h(3)
+    real(wp), dimension(box(2, 1) - box(1, 1) + 1, 6) :: sdev, src
+    integer :: i, j, k, a, b, c, dir(3), n, i0, i1
+    i0 = box(1, 1)
+    i1 = box(2, 1)
+    n = i1 - i0 + 1
     h = 0.0_wp
     h(1:lay%ndim) = 0.5_wp / lay%dx(1:lay%ndim)
-    do k = 1, lay%bsize(3)
-      do j = 1, lay%bsize(2)
+    do k = box(1, 3), box(2, 3)
+      do j = box(1, 2), box(2, 2)
         l = 0.0_wp
         do b = 1, lay%ndim
           dir = 0
           dir(b) = 1
           do a = 1, 3
-            l(:, a, b) = h(b) * (prim(1+dir(1):n+dir(1), j + dir(2), k + dir(3), 1 + a) &
-              - prim(1-dir(1):n-dir(1), j - dir(2), k - dir(3), 1 + a))
+            l(:, a, b) = h(b) * (prim(i0+dir(1):i1+dir(1), j + dir(2), k + dir(3), 1 + a) &
+              - prim(i0-dir(1):i1-dir(1), j - dir(2), k - dir(3), 1 + a))
           end do
         end do
         if (lay%axisymmetric) then
           do i = 1, n
-            l(i, 3, 3) = prim(i, j, k, 2) &
-              / (lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1))
+            l(i, 3, 3) = prim(i0 + i - 1, j, k, 2) &
+              / (lay%lo(1) + (real(offset(1) + i0 + i - 1, wp) - 0.5_wp) * lay%dx(1))
           end do
         end if
         do c = 1, 6
-          sdev(:, c) = prim(1:n, j, k, i_sxx + c - 1)
+          sdev(:, c) = prim(i0:i1, j, k, i_sxx + c - 1)
         end do
         call jaumann_source(st, n, sdev, l, src)
         if (present(fraction)) then
           do c = 1, 6
-            src(:, c) = src(:, c) * fraction(:, j, k)
+            src(:, c) = src(:, c) * fraction(i0:i1, j, k)
           end do
         end if
         do c = 1, 6
-          rhs(:, j, k, i_sxx + c - 1) = rhs(:, j, k, i_sxx + c - 1) + prim(1:n, j, k, i_rho) &
-            * src(:, c)
+          rhs(i0:i1, j, k, i_sxx + c - 1) = rhs(i0:i1, j, k, i_sxx + c - 1) &
+            + prim(i0:i1, j, k, i_rho) * src(:, c)
         end do
       end do
     end do

@@ -94,7 +94,7 @@ contains
   !> first order; failed is set (and the rest skipped) when even the cell values next to a
   !> face are not admissible: the stage cannot go on and the caller recomputes the step.
   subroutine euler_rhs(lay, eos, st, num, q, rhs, offset, wall, vwall, work, nfallback, &
-      failed, bigphi, trouble, cut)
+      failed, bigphi, trouble, cut, box)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st    !< strength (used when q carries the stress)
@@ -115,27 +115,42 @@ contains
     logical, intent(in), optional :: trouble(:, :, :)
     !> the phase's cut-cell geometry: rhs is the rate of its content (m_gfm_cut)
     type(cut_faces_t), intent(in), optional :: cut
-    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nb, nv, m, c, nc, ns, mb
-    integer :: outside, i0, i1   !< directions of (j, k) outside the interior; the row's cells
-    logical :: split
+    !> the cells whose rates are wanted, (low, high) corner: only their pencils are computed,
+    !> every other cell's rate is 0 (a phase's cells far beyond its surface, which hold its
+    !> rest state after the update: m_gfm_stage); default the whole block
+    integer, intent(in), optional :: box(2, 3)
+    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nb, nv, m, c, ns, mb
+    integer :: i0, i1   !< the cells of a row whose primitives are made
+    integer :: bx(2, 3), r3(3), o1, ob, cl, ch
+    logical :: split, pwall(2), inj, ink
     real(wp) :: rdx, r
+    bx(1, :) = 1
+    bx(2, :) = lay%bsize
+    if (present(box)) bx = box
     ! (the cells a stencil reaches: a halo deeper than that is not read here)
-    lo = 1 - min(lay%ng, stencil_reach)
-    hi = lay%bsize + min(lay%ng, stencil_reach)
+    r3 = min(lay%ng, stencil_reach)
+    lo = 1 - r3
+    hi = lay%bsize + r3
     nv = size(q, 4)
     ! the Euler or solid variables; one more is rho lambda (reaction)
     ns = merge(n_solid, n_euler, nv >= n_solid)
     ! the first of the bounded scalars (eps_p, w_c, lambda) in pencil order
     mb = min(i_epsp, ns + 1)
-    ! the primitives of the cells the pencils read: the interior and the halo beside each
-    ! face, not the halo's edges and corners (no stencil reaches them; a plan of faces only
-    ! does not fill them, m_halo)
-    do k = lo(3), hi(3)
-      do j = lo(2), hi(2)
-        outside = count([j < 1 .or. j > lay%bsize(2), k < 1 .or. k > lay%bsize(3)])
-        if (outside == 2) cycle
-        i0 = merge(lo(1), 1, outside == 0)
-        i1 = merge(hi(1), lay%bsize(1), outside == 0)
+    ! the primitives of the cells the pencils of the box read: along each direction the
+    ! box's cells and the stencil's reach beyond them, so not the halo's edges and corners
+    ! (no stencil reaches them; a plan of faces only does not fill them, m_halo)
+    do k = max(lo(3), bx(1, 3) - r3(3)), min(hi(3), bx(2, 3) + r3(3))
+      do j = max(lo(2), bx(1, 2) - r3(2)), min(hi(2), bx(2, 2) + r3(2))
+        inj = j >= bx(1, 2) .and. j <= bx(2, 2)
+        ink = k >= bx(1, 3) .and. k <= bx(2, 3)
+        if (.not. (inj .or. ink)) cycle
+        if (inj .and. ink) then
+          i0 = max(lo(1), bx(1, 1) - r3(1))
+          i1 = min(hi(1), bx(2, 1) + r3(1))
+        else
+          i0 = bx(1, 1)
+          i1 = bx(2, 1)
+        end if
         call primitive_row(eos, i1 - i0 + 1, q(i0:i1, j, k, i_rho), q(i0:i1, j, k, i_mx), &
           q(i0:i1, j, k, i_my), q(i0:i1, j, k, i_mz), q(i0:i1, j, k, i_en), &
           work%prim(i0:i1, j, k, 1), work%prim(i0:i1, j, k, 2), work%prim(i0:i1, j, k, 3), &
@@ -148,7 +163,11 @@ contains
     ! (rhs is not zeroed first: the x direction's rates, rates_x, set it; the others add)
     work%bflux = 0.0_wp
     do d = 1, lay%ndim
-      n = lay%bsize(d)
+      ! the pencils of the box along d: its cells o1 + 1 .. o1 + n, a wall only at the block's
+      ! own ends
+      o1 = bx(1, d) - 1
+      n = bx(2, d) - o1
+      pwall = wall(:, d) .and. [o1 == 0, o1 + n == lay%bsize(d)]
       g = lay%ng(d)
       rdx = 1.0_wp / lay%dx(d)
       ! pencil frame: (rho, u_normal, u_t1, u_t2, p); bundles of pencils, the bundle index
@@ -157,22 +176,28 @@ contains
       case (1)   ! x pencils at each k, bundled over j
         perm = [1, 2, 3, 4, 5, i_sxx, i_sxy, i_sxz, i_syy, i_szz, i_syz, i_epsp, &
           i_wcold, 0]
-        nb = lay%bsize(2)
-        nc = lay%bsize(3)
+        ob = bx(1, 2) - 1
+        nb = bx(2, 2) - ob
+        cl = bx(1, 3)
+        ch = bx(2, 3)
       case (2)   ! y pencils at each k, bundled over i
         perm = [1, 3, 2, 4, 5, i_syy, i_sxy, i_syz, i_sxx, i_szz, i_sxz, i_epsp, &
           i_wcold, 0]
-        nb = lay%bsize(1)
-        nc = lay%bsize(3)
+        ob = bx(1, 1) - 1
+        nb = bx(2, 1) - ob
+        cl = bx(1, 3)
+        ch = bx(2, 3)
       case default   ! z pencils at each j, bundled over i
         perm = [1, 4, 2, 3, 5, i_szz, i_sxz, i_syz, i_sxx, i_syy, i_sxy, i_epsp, &
           i_wcold, 0]
-        nb = lay%bsize(1)
-        nc = lay%bsize(2)
+        ob = bx(1, 1) - 1
+        nb = bx(2, 1) - ob
+        cl = bx(1, 2)
+        ch = bx(2, 2)
       end select
       ! rho lambda keeps its place, after the Euler or solid variables
       if (nv > ns) perm(nv) = nv
-      do c = 1, nc
+      do c = cl, ch
         if (d == 1) then
           call bundle_x(c, nb, n, g, work%pw)
         else
@@ -200,9 +225,9 @@ contains
     end do
     if (lay%axisymmetric) then
       ! the hoop stress: the pressure term that the r-weighted divergence leaves (eq. 1.1)
-      do k = 1, lay%bsize(3)
-        do j = 1, lay%bsize(2)
-          do i = 1, lay%bsize(1)
+      do k = bx(1, 3), bx(2, 3)
+        do j = bx(1, 2), bx(2, 2)
+          do i = bx(1, 1), bx(2, 1)
             r = lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1)
             if (present(cut)) then
               ! a cut cell: the hoop stress over its wet part, of planar area plane dr dz
@@ -223,11 +248,12 @@ contains
 
     if (ns > n_euler) then
       if (present(cut)) then
-        call stress_rates(lay, st, offset, work%prim, rhs, cut%alpha)
+        call stress_rates(lay, st, offset, bx, work%prim, rhs, cut%alpha)
       else
-        call stress_rates(lay, st, offset, work%prim, rhs)
+        call stress_rates(lay, st, offset, bx, work%prim, rhs)
       end if
     end if
+    if (present(box)) call outside_box()
 
   contains
 
@@ -238,11 +264,11 @@ contains
       logical, intent(in), optional, contiguous :: low(:)
       if (present(cut) .and. ns > n_euler) then
         call partial_faces(d, c, nb, n, work%lowb)
-        call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, wall(:, d), vwall(:, d), &
+        call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, pwall, vwall(:, d), &
           work%up, work%surf, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
           work%cr, work%f, work%chw, nfallback, failed, low, work%lowb)
       else
-        call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, wall(:, d), vwall(:, d), &
+        call faces_and_fluxes(eos, st%g, num, nb, n, g, nv, ns, pwall, vwall(:, d), &
           work%up, work%surf, work%pw, work%wl, work%wr, work%el, work%er, work%cl, &
           work%cr, work%f, work%chw, nfallback, failed, low)
       end if
@@ -257,11 +283,11 @@ contains
         do ii = 0, nn
           select case (dd)
           case (1)
-            f(:, ii, mm) = f(:, ii, mm) * cut%ax(ii, 1:nbb, c0)
+            f(:, ii, mm) = f(:, ii, mm) * cut%ax(ii + o1, ob + 1:ob + nbb, c0)
           case (2)
-            f(:, ii, mm) = f(:, ii, mm) * cut%ay(1:nbb, ii, c0)
+            f(:, ii, mm) = f(:, ii, mm) * cut%ay(ob + 1:ob + nbb, ii + o1, c0)
           case default
-            f(:, ii, mm) = f(:, ii, mm) * cut%az(1:nbb, c0, ii)
+            f(:, ii, mm) = f(:, ii, mm) * cut%az(ob + 1:ob + nbb, c0, ii + o1)
           end select
         end do
       end do
@@ -289,19 +315,19 @@ contains
       case (1)   ! x pencils at k = c0, bundled over j
         do ii = 0, nn
           do jj = 1, nbb
-            rl(jj, ii) = bigphi(ii, jj, c0) < 0.0_wp
-            rr(jj, ii) = bigphi(ii + 1, jj, c0) < 0.0_wp
+            rl(jj, ii) = bigphi(ii + o1, jj + ob, c0) < 0.0_wp
+            rr(jj, ii) = bigphi(ii + o1 + 1, jj + ob, c0) < 0.0_wp
           end do
         end do
       case (2)   ! y pencils at k = c0, bundled over i
         do jj = 0, nn
-          rl(:, jj) = bigphi(1:nbb, jj, c0) < 0.0_wp
-          rr(:, jj) = bigphi(1:nbb, jj + 1, c0) < 0.0_wp
+          rl(:, jj) = bigphi(ob + 1:ob + nbb, jj + o1, c0) < 0.0_wp
+          rr(:, jj) = bigphi(ob + 1:ob + nbb, jj + o1 + 1, c0) < 0.0_wp
         end do
       case default   ! z pencils at j = c0, bundled over i
         do jj = 0, nn
-          rl(:, jj) = bigphi(1:nbb, c0, jj) < 0.0_wp
-          rr(:, jj) = bigphi(1:nbb, c0, jj + 1) < 0.0_wp
+          rl(:, jj) = bigphi(ob + 1:ob + nbb, c0, jj + o1) < 0.0_wp
+          rr(:, jj) = bigphi(ob + 1:ob + nbb, c0, jj + o1 + 1) < 0.0_wp
         end do
       end select
       ! every face but the surface's: a ghost that turns real must start within range as a
@@ -354,18 +380,18 @@ contains
       select case (dd)
       case (1)
         do ii = 1, nn
-          low(:, ii - 1) = low(:, ii - 1) .or. trouble(ii, 1:nbb, c0)
-          low(:, ii) = low(:, ii) .or. trouble(ii, 1:nbb, c0)
+          low(:, ii - 1) = low(:, ii - 1) .or. trouble(ii + o1, ob + 1:ob + nbb, c0)
+          low(:, ii) = low(:, ii) .or. trouble(ii + o1, ob + 1:ob + nbb, c0)
         end do
       case (2)
         do ii = 1, nn
-          low(:, ii - 1) = low(:, ii - 1) .or. trouble(1:nbb, ii, c0)
-          low(:, ii) = low(:, ii) .or. trouble(1:nbb, ii, c0)
+          low(:, ii - 1) = low(:, ii - 1) .or. trouble(ob + 1:ob + nbb, ii + o1, c0)
+          low(:, ii) = low(:, ii) .or. trouble(ob + 1:ob + nbb, ii + o1, c0)
         end do
       case default
         do ii = 1, nn
-          low(:, ii - 1) = low(:, ii - 1) .or. trouble(1:nbb, c0, ii)
-          low(:, ii) = low(:, ii) .or. trouble(1:nbb, c0, ii)
+          low(:, ii - 1) = low(:, ii - 1) .or. trouble(ob + 1:ob + nbb, c0, ii + o1)
+          low(:, ii) = low(:, ii) .or. trouble(ob + 1:ob + nbb, c0, ii + o1)
         end do
       end select
     end subroutine low_faces
@@ -378,11 +404,14 @@ contains
       do ii = 0, nn
         select case (dd)
         case (1)
-          lowb(:, ii) = cut%partial(ii, 1:nbb, c0) .or. cut%partial(ii + 1, 1:nbb, c0)
+          lowb(:, ii) = cut%partial(ii + o1, ob + 1:ob + nbb, c0) &
+            .or. cut%partial(ii + o1 + 1, ob + 1:ob + nbb, c0)
         case (2)
-          lowb(:, ii) = cut%partial(1:nbb, ii, c0) .or. cut%partial(1:nbb, ii + 1, c0)
+          lowb(:, ii) = cut%partial(ob + 1:ob + nbb, ii + o1, c0) &
+            .or. cut%partial(ob + 1:ob + nbb, ii + o1 + 1, c0)
         case default
-          lowb(:, ii) = cut%partial(1:nbb, c0, ii) .or. cut%partial(1:nbb, c0, ii + 1)
+          lowb(:, ii) = cut%partial(ob + 1:ob + nbb, c0, ii + o1) &
+            .or. cut%partial(ob + 1:ob + nbb, c0, ii + o1 + 1)
         end select
       end do
     end subroutine partial_faces
@@ -394,7 +423,7 @@ contains
       do mm = 1, nv
         do ii = 1 - gg, nn + gg
           do jj = 1, nbb
-            pw(jj, ii, mm) = work%prim(ii, jj, k0, perm(mm))
+            pw(jj, ii, mm) = work%prim(ii + o1, jj + ob, k0, perm(mm))
           end do
         end do
       end do
@@ -414,7 +443,7 @@ contains
         wlo(ii) = rdx
         whi(ii) = rdx
         if (lay%axisymmetric) then
-          rf = lay%lo(1) + real(offset(1) + ii - 1, wp) * lay%dx(1)
+          rf = lay%lo(1) + real(offset(1) + o1 + ii - 1, wp) * lay%dx(1)
           rc = rf + 0.5_wp * lay%dx(1)
           wlo(ii) = rdx * rf / rc
           whi(ii) = rdx * (rf + lay%dx(1)) / rc
@@ -428,8 +457,12 @@ contains
         end if
       end do
       do jj = 1, nbb
-        if (side(1, 1, 1, jj, k0)) call edge(wlo(1) * f(jj, 0, :), 1)
-        if (side(1, 2, nn, jj, k0)) call edge(-whi(nn) * f(jj, nn, :), nn)
+        if (o1 == 0) then
+          if (side(1, 1, 1, jj + ob, k0)) call edge(wlo(1) * f(jj, 0, :), 1)
+        end if
+        if (o1 + nn == lay%bsize(1)) then
+          if (side(1, 2, nn + o1, jj + ob, k0)) call edge(-whi(nn) * f(jj, nn, :), nn + o1)
+        end if
       end do
     end subroutine scatter_x
 
@@ -441,9 +474,9 @@ contains
       do mm = 1, nv
         do jj = 1 - gg, nn + gg
           if (dd == 2) then
-            pw(:, jj, mm) = work%prim(1:nbb, jj, c0, perm(mm))
+            pw(:, jj, mm) = work%prim(ob + 1:ob + nbb, jj + o1, c0, perm(mm))
           else
-            pw(:, jj, mm) = work%prim(1:nbb, c0, jj, perm(mm))
+            pw(:, jj, mm) = work%prim(ob + 1:ob + nbb, c0, jj + o1, perm(mm))
           end if
         end do
       end do
@@ -463,15 +496,17 @@ contains
         end if
       end do
       do ii = 1, nbb
+        at_lo = .false.
+        at_hi = .false.
         if (dd == 2) then
-          at_lo = side(2, 1, ii, 1, c0)
-          at_hi = side(2, 2, ii, nn, c0)
+          if (o1 == 0) at_lo = side(2, 1, ii + ob, 1, c0)
+          if (o1 + nn == lay%bsize(2)) at_hi = side(2, 2, ii + ob, nn + o1, c0)
         else
-          at_lo = side(3, 1, ii, c0, 1)
-          at_hi = side(3, 2, ii, c0, nn)
+          if (o1 == 0) at_lo = side(3, 1, ii + ob, c0, 1)
+          if (o1 + nn == lay%bsize(3)) at_hi = side(3, 2, ii + ob, c0, nn + o1)
         end if
-        if (at_lo) call edge(rdx * f(ii, 0, :), ii)
-        if (at_hi) call edge(-rdx * f(ii, nn, :), ii)
+        if (at_lo) call edge(rdx * f(ii, 0, :), ii + ob)
+        if (at_hi) call edge(-rdx * f(ii, nn, :), ii + ob)
       end do
     end subroutine scatter_yz
 
@@ -485,7 +520,8 @@ contains
       integer :: ii, jj
       do jj = 1, nbb
         do ii = 1, nn
-          rhs(ii, jj, k0, perm(mm)) = 0.0_wp - (whi(ii) * fh(jj, ii) - wlo(ii) * fl(jj, ii - 1))
+          rhs(ii + o1, jj + ob, k0, perm(mm)) = 0.0_wp &
+            - (whi(ii) * fh(jj, ii) - wlo(ii) * fl(jj, ii - 1))
         end do
       end do
     end subroutine rates_x
@@ -497,14 +533,28 @@ contains
       integer :: jj
       do jj = 1, nn
         if (dd == 2) then
-          rhs(1:nbb, jj, c0, perm(mm)) = rhs(1:nbb, jj, c0, perm(mm)) &
-            - rdx * (fh(:, jj) - fl(:, jj - 1))
+          rhs(ob + 1:ob + nbb, jj + o1, c0, perm(mm)) = rhs(ob + 1:ob + nbb, jj + o1, c0, &
+            perm(mm)) - rdx * (fh(:, jj) - fl(:, jj - 1))
         else
-          rhs(1:nbb, c0, jj, perm(mm)) = rhs(1:nbb, c0, jj, perm(mm)) &
-            - rdx * (fh(:, jj) - fl(:, jj - 1))
+          rhs(ob + 1:ob + nbb, c0, jj + o1, perm(mm)) = rhs(ob + 1:ob + nbb, c0, jj + o1, &
+            perm(mm)) - rdx * (fh(:, jj) - fl(:, jj - 1))
         end if
       end do
     end subroutine rates_yz
+
+    !> rate 0 for every cell outside the box
+    subroutine outside_box()
+      integer :: ii, jj, kk
+      do kk = 1, lay%bsize(3)
+        do jj = 1, lay%bsize(2)
+          do ii = 1, lay%bsize(1)
+            if (ii >= bx(1, 1) .and. ii <= bx(2, 1) .and. jj >= bx(1, 2) .and. &
+              jj <= bx(2, 2) .and. kk >= bx(1, 3) .and. kk <= bx(2, 3)) cycle
+            rhs(ii, jj, kk, :) = 0.0_wp
+          end do
+        end do
+      end do
+    end subroutine outside_box
 
     !> whether cell (i0, j0, k0) lies on the domain's low (lh = 1) or high (2) side in
     !> direction dd (not a periodic one) and is real for the phase

@@ -18,6 +18,10 @@
 !>     and the ghost beside it, whose plastic strain is a millionth of the real cell's, keeps
 !>     rho eps_p >= 0 over a step at the time step's limit (its scalars leave it at its own
 !>     value, not the real cell's), on either side of the body.
+!> (5) a box of the block (a body's cells near its surface, m_gfm_stage): the rates of its
+!>     cells are those of the whole block to the bit and every other cell's is 0, for gas
+!>     and solid, with a surface, in 3D and in axisymmetry, for a box inside the block and
+!>     one at its sides.
 !> The state is of size 1 (rho, p, c, |S| of order 1): round-off is then 1e-16 of it.
 !> euler_rhs is called in one place (compute_rhs), so a change of its arguments is one edit.
 program test_euler
@@ -63,13 +67,16 @@ program test_euler
   call periodic_update(1, .true., scheme_eno3)
   call periodic_update(2, .false., scheme_eno2)
   call periodic_update(2, .true., scheme_weno5)
+  call box_rates(3, .false., .false.)
+  call box_rates(3, .true., .false.)
+  call box_rates(2, .true., .true.)
   call check_done()
 
 contains
 
   !> The one call of euler_rhs: a block without walls, at offset 0 of its layout; the
   !> rates that crossed the domain's sides come back in bflux.
-  subroutine compute_rhs(lay, st, scheme, flux, scalar_flux, q, rhs, work, bflux, bigphi)
+  subroutine compute_rhs(lay, st, scheme, flux, scalar_flux, q, rhs, work, bflux, bigphi, box)
     type(layout_t), intent(in) :: lay
     type(strength_t), intent(in) :: st
     integer, intent(in) :: scheme, flux, scalar_flux
@@ -79,6 +86,7 @@ contains
     real(wp), intent(out) :: bflux(2)
     !> the phase's composite level set (< 0 where its cells are real), when it has a surface
     real(wp), intent(in), optional :: bigphi(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):)
+    integer, intent(in), optional :: box(2, 3)   !< the cells whose rates are made
     logical :: wall(2, 3), failed
     real(wp) :: vwall(2, 3)
     integer :: nfallback
@@ -89,7 +97,7 @@ contains
     nfallback = 0
     failed = .false.
     call euler_rhs(lay, gas, st, num, q, rhs, [0, 0, 0], wall, vwall, work, nfallback, &
-      failed, bigphi)
+      failed, bigphi, box=box)
     call check('euler_rhs: no face fell back, the stage went on', nfallback == 0 .and. &
       .not. failed)
     bflux = work%bflux
@@ -278,6 +286,87 @@ contains
     call check(tag // 'and rho w_c >= 0', &
       q(ghost_cell, 1, 1, i_wcold) + dt * rhs(ghost_cell, 1, 1, i_wcold) >= 0.0_wp)
   end subroutine surface_scalars
+
+  !> A smooth state varying in every direction, halo included (no side conditions needed),
+  !> a plane surface across it, and the rates of two boxes against the whole block's.
+  subroutine box_rates(nd, with_strength, axisymmetric)
+    integer, intent(in) :: nd
+    logical, intent(in) :: with_strength, axisymmetric
+    real(wp), parameter :: pi = 4.0_wp * atan(1.0_wp)
+    type(layout_t) :: lay
+    type(euler_work_t) :: work
+    real(wp), allocatable :: q(:, :, :, :), rhs(:, :, :, :), rbox(:, :, :, :), bigphi(:, :, :)
+    real(wp) :: x(3), b, qc(n_solid), sdev(6), bflux(2)
+    integer :: i, j, k, nv, t, box(2, 3), lo(3), hi(3)
+    logical :: inside
+    character(len=:), allocatable :: tag
+    nv = merge(n_solid, n_euler, with_strength)
+    call one_block(nd, [12, 10, 8], .false., axisymmetric, lay)
+    lo = 1 - lay%ng
+    hi = lay%bsize + lay%ng
+    allocate(q(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), nv), bigphi(lo(1):hi(1), lo(2):hi(2), &
+      lo(3):hi(3)))
+    allocate(rhs(lay%bsize(1), lay%bsize(2), lay%bsize(3), nv))
+    allocate(rbox, mold=rhs)
+    do k = lo(3), hi(3)
+      do j = lo(2), hi(2)
+        do i = lo(1), hi(1)
+          x = lay%lo + ([i, j, k] - 0.5_wp) * lay%dx
+          b = sin(2.0_wp * pi * x(1)) * cos(pi * x(2)) + 0.5_wp * sin(3.0_wp * x(3))
+          sdev = 0.05_wp * b * [1.0_wp, -0.4_wp, -0.6_wp, 0.3_wp, -0.2_wp, 0.1_wp]
+          call conserved(nv, 1.0_wp + 0.2_wp * b, [0.3_wp * b, 0.2_wp - 0.1_wp * b, &
+            0.1_wp * b], 1.0_wp + 0.3_wp * b, sdev, 0.2_wp + 0.1_wp * b, 0.01_wp, qc)
+          q(i, j, k, :) = qc(1:nv)
+          bigphi(i, j, k) = x(1) - lay%lo(1) - 0.37_wp - 0.1_wp * x(2)
+        end do
+      end do
+    end do
+    call euler_work_init(lay, nv, work)
+    if (with_strength) then
+      call compute_rhs(lay, solid, scheme_weno5, flux_kind_llf, scalar_flux_upwind, q, rhs, &
+        work, bflux, bigphi)
+    else
+      call compute_rhs(lay, nostrength, scheme_eno3, flux_kind_hllc, scalar_flux_llf, q, rhs, &
+        work, bflux, bigphi)
+    end if
+    do t = 1, 2
+      if (t == 1) then
+        box = reshape([3, 7, 2, 5, 3, 6], [2, 3])   ! inside the block
+      else
+        box = reshape([1, 4, 6, 10, 1, 8], [2, 3])   ! at its sides
+      end if
+      if (nd < 3) box(:, 3) = 1
+      rbox = huge(1.0_wp)
+      if (with_strength) then
+        call compute_rhs(lay, solid, scheme_weno5, flux_kind_llf, scalar_flux_upwind, q, &
+          rbox, work, bflux, bigphi, box)
+      else
+        call compute_rhs(lay, nostrength, scheme_eno3, flux_kind_hllc, scalar_flux_llf, q, &
+          rbox, work, bflux, bigphi, box)
+      end if
+      tag = 'box ' // achar(48 + t) // ' ' // achar(48 + nd) // 'D ' // &
+        trim(merge('axisymmetric ', 'cartesian    ', axisymmetric)) // ' ' // &
+        merge('solid', 'gas  ', with_strength) // ': '
+      do k = 1, lay%bsize(3)
+        do j = 1, lay%bsize(2)
+          do i = 1, lay%bsize(1)
+            inside = all([i, j, k] >= box(1, :) .and. [i, j, k] <= box(2, :))
+            if (inside) then
+              if (.not. all(abs(rbox(i, j, k, :) - rhs(i, j, k, :)) <= 0.0_wp)) exit
+            else
+              if (.not. all(abs(rbox(i, j, k, :)) <= 0.0_wp)) exit
+            end if
+          end do
+          if (i <= lay%bsize(1)) exit
+        end do
+        if (j <= lay%bsize(2)) exit
+      end do
+      call check(tag // 'the box''s rates are the block''s (the same numbers), the others 0', &
+        k > lay%bsize(3))
+      call check(tag // 'and the box''s rates are not all 0', &
+        maxval(abs(rbox)) > 1.0e-3_wp)
+    end do
+  end subroutine box_rates
 
   real(wp) function cell_pressure(qc) result(p)
     real(wp), intent(in) :: qc(:)
