@@ -234,10 +234,11 @@ contains
     f%arrays_per_cell = 8.0_wp * s%ph%nvar * (product(s%lay%bsize + 2 * s%lay%ng) &
       + 2 * product(s%lay%bsize)) / product(s%lay%bsize)
     f%halo_steps = s%plan%counts%steps
-    f%halo_exchanges = max_and_sum(s%plan%counts%exchanges)
-    f%halo_messages = max_and_sum(s%plan%counts%messages)
-    f%halo_bytes = max_and_sum(s%plan%counts%bytes)
-    f%halo_copy_bytes = max_and_sum(s%plan%counts%copy_bytes)
+    ! (both plans: the flow exchange after the ghost fill may have its own, m_simulation)
+    f%halo_exchanges = max_and_sum(s%plan%counts%exchanges + s%plan_flow%counts%exchanges)
+    f%halo_messages = max_and_sum(s%plan%counts%messages + s%plan_flow%counts%messages)
+    f%halo_bytes = max_and_sum(s%plan%counts%bytes + s%plan_flow%counts%bytes)
+    f%halo_copy_bytes = max_and_sum(s%plan%counts%copy_bytes + s%plan_flow%counts%copy_bytes)
 
   contains
 

@@ -33,7 +33,7 @@ module m_simulation
   use m_yield, only: strength_t, strength_from_material, strength_none
   use m_timers, only: timers_t
   use m_memory, only: memory_t, memory_estimate, memory_check
-  use m_comm, only: comm_rank, comm_any, comm_max
+  use m_comm, only: comm_rank, comm_any, comm_max, comm_backend_name
   use m_errors, only: stop_collective
   use m_text, only: base_name, int_text
   use m_hotspot, only: hot_t, hot_start
@@ -71,6 +71,9 @@ module m_simulation
     type(layout_t) :: lay              !< the grid of blocks
     type(block_t), allocatable :: blocks(:)   !< this rank's blocks
     type(halo_plan_t) :: plan
+    !> with flow_faces, the faces-only plan of the flow exchange after the ghost fill
+    type(halo_plan_t) :: plan_flow
+    logical :: flow_faces = .false.
     type(bc_kind_t) :: bc
     type(clock_t) :: clk
     type(phases_t) :: ph               !< the phases and the state layout (m_phases)
@@ -569,12 +572,22 @@ contains
   !> block, m_phase_heat) has
   !> every stencil along one direction and no deeper than the reconstruction's: its plan
   !> holds the faces only, stencil_reach (3) cells deep, and nothing reads the rest.
+  !> A scene with level sets (and neither of those nor the cut-cell update) has a second
+  !> plan of that kind, plan_flow, for the flow exchange after the ghost fill: until the
+  !> next stage's full exchange only the fluxes' pencils read the flow halo (m_step). Not
+  !> in the coarray build, whose exchange keeps one set-up (m_comm_caf).
   subroutine sim_plan(sim)
     type(sim_t), intent(inout) :: sim
-    logical :: faces
-    faces = sim%ls%n == 0 .and. .not. (sim%cfg%heat_conduction .or. sim%cfg%reaction)
+    logical :: faces, plain
+    plain = .not. (sim%cfg%heat_conduction .or. sim%cfg%reaction)
+    faces = sim%ls%n == 0 .and. plain
     call halo_plan_build(sim%lay, sim%blocks, sim%plan, faces, &
       merge(stencil_reach, n_halo, faces))
+    ! (the coarray back end keeps one exchange set-up per run: one plan there)
+    sim%flow_faces = sim%ls%n > 0 .and. plain .and. sim%cfg%conserve /= 'cut_cell' .and. &
+      comm_backend_name /= 'coarray'
+    if (sim%flow_faces) call halo_plan_build(sim%lay, sim%blocks, sim%plan_flow, .true., &
+      stencil_reach)
   end subroutine sim_plan
 
 end module m_simulation

@@ -70,9 +70,15 @@ contains
           call ghost_fluid_fill(sim%gf, sim%cut, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, &
             sim%cfg%bodies, sim%blocks, t, stage, sim%clk%dt, sim%cfg%thermal, failed)
           call timer_stop(sim%timers, 'gfm')
+          ! (only the fluxes' pencils read this halo: the faces, when the scene allows it)
           call timer_start(sim%timers, 'halo')
-          call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_flow, t, &
-            sim%gf%dormant)
+          if (sim%flow_faces) then
+            call fill_ghosts(sim%plan_flow, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_flow, &
+              t, sim%gf%dormant)
+          else
+            call fill_ghosts(sim%plan, sim%lay, sim%bc, sim%blocks, sim%ph, ghosts_flow, t, &
+              sim%gf%dormant)
+          end if
           call timer_stop(sim%timers, 'halo')
         end if
         call stage_blocks(sim, stage, t, [(.true., b = 1, size(sim%blocks))], nf, failed)

@@ -43,6 +43,7 @@ contains
     call progress_start(sim, progress)
     ! the halo counts of run.json are the loop's: per step, without the set-up's exchanges
     sim%plan%counts = halo_counts_t()
+    sim%plan_flow%counts = halo_counts_t()
     call sim_rate(sim, rate, ok)
     stop_bad = .not. ok
     do
