@@ -14,6 +14,7 @@
 #   make accuracy-taylor  the Taylor-bar family alone (error against its finest run)
 #   make bench      3D gas-dynamics benchmark on 1 and 2 ranks with the STREAM triad
 #                   (CLOVERLEAF=path/to/clover_leaf make bench: CloverLeaf3D beside it)
+#   CLOVERLEAF=path/to/clover_leaf make blast-compare   3D Sedov work-precision against CloverLeaf3D
 #   make clean
 
 SHELL := /bin/bash
@@ -72,7 +73,7 @@ UNIT := test_eos test_reconstruct test_characteristic test_flux test_halo test_h
   test_gfm test_euler test_boundary test_partition test_levelset_cut test_hotspot test_reaction test_scene
 UNIT_BIN := $(addprefix bin/,$(UNIT))
 
-.PHONY: all deps check check-caf check-batch run verify bench clean unit accuracy accuracy-taylor stability
+.PHONY: all deps check check-caf check-batch run verify bench blast-compare clean unit accuracy accuracy-taylor stability
 all: $(if $(filter caf,$(COMM)),bin/sabre-caf,bin/sabre)
 
 bin/sabre: $(REL_OBJ) build/rel/src/sabre.o | bin
@@ -199,6 +200,11 @@ stability: deps
 bench: deps
 	$(MAKE) bin/sabre bin/stream_triad
 	$(PY) tools/bench
+
+blast-compare: deps
+	@test -n "$(CLOVERLEAF)" || { echo 'blast-compare: set CLOVERLEAF=path/to/clover_leaf'; exit 2; }
+	$(MAKE) bin/sabre
+	$(PY) tools/blast_compare --fresh --cells 32,48,64,96 --figure manual/figures/blast_compare.png
 
 bin/stream_triad: tools/stream_triad.f90 | bin
 	gfortran -O3 -march=native -fopenmp -o $@ $<

@@ -23,6 +23,9 @@ the regression case sedov_constants):
     xi0 = 1.032777; G. I. Taylor (Proc. R. Soc. A 201, 1950) quoted 1.033.
   - spherical, gamma 5/3: xi0 = 1.15167 (xi0^5 = 2.026, the constant commonly quoted
     for supernova remnants), a second check of the integrator.
+`profile(r, t, E, rho)` gives the exact state (rho, u, p) at radii r from the same ODEs
+integrated with dense output (tools/blast_compare's error against the exact blast; the
+check below: the profile holds the energy E and the strong-shock jump of 6 in density).
 The cylindrical constant is this integrator's own (the same ODEs and quadrature that
 reproduce both spherical numbers to 1e-7); no published cylindrical value was at hand
 to compare with when it was written.
@@ -36,7 +39,7 @@ import math
 import numpy as np
 from scipy.integrate import solve_ivp
 
-__all__ = ["alpha", "xi0", "shock_radius", "shock_speed", "ALPHA", "XI0"]
+__all__ = ["alpha", "xi0", "shock_radius", "shock_speed", "profile", "ALPHA", "XI0"]
 
 # gamma = 1.4, computed with alpha() below and checked in __main__
 ALPHA = {(1.4, 2): 0.98407402, (1.4, 3): 0.85107185}
@@ -61,13 +64,10 @@ def _rhs(xi, y, gamma, n, k):
     return (dg, dphi, dh, de)
 
 
-def alpha(gamma=1.4, n=3, xi_min=1e-8):
-    """Energy constant alpha: E = alpha rho R^(n+2) / t^2 for a cold uniform gas.
-
-    Integrates the similarity ODEs from the strong-shock state at xi = 1 down to xi_min
-    in s = ln(xi) (the solution is smooth in s; the part of the energy inside xi_min is
-    negligible) with scipy's 8th-order Runge-Kutta (DOP853) at a relative tolerance of
-    1e-12."""
+def _integrate(gamma, n, xi_min, dense=False):
+    """The similarity ODEs integrated from the strong-shock state at xi = 1 down to xi_min in
+    s = ln(xi) (the solution is smooth in s) with scipy's 8th-order Runge-Kutta (DOP853) at
+    a relative tolerance of 1e-12; y = (g, phi, h, energy integral from 1)."""
     if n not in _AREA:
         raise ValueError("n must be 1 (planar), 2 (cylindrical) or 3 (spherical)")
     if not gamma > 1.0:
@@ -81,10 +81,19 @@ def alpha(gamma=1.4, n=3, xi_min=1e-8):
         return [xi * d for d in _rhs(xi, y, gamma, n, k)]  # d/ds = xi d/dxi
 
     sol = solve_ivp(f, (0.0, math.log(xi_min)), y0, method="DOP853", rtol=1e-12,
-                    atol=1e-14)
+                    atol=1e-14, dense_output=dense)
     if not sol.success:
         raise ValueError("the Sedov similarity ODEs did not integrate: %s" % sol.message)
-    return delta * delta * -sol.y[3, -1]  # y[3] = int_1^xi_min (...) dxi < 0
+    return sol
+
+
+def alpha(gamma=1.4, n=3, xi_min=1e-8):
+    """Energy constant alpha: E = alpha rho R^(n+2) / t^2 for a cold uniform gas.
+
+    Integrates the similarity ODEs from the strong-shock state at xi = 1 down to xi_min
+    (`_integrate`; the part of the energy inside xi_min is negligible)."""
+    delta = 2.0 / (n + 2.0)
+    return delta * delta * -_integrate(gamma, n, xi_min).y[3, -1]  # int_1^xi_min < 0  # y[3] = int_1^xi_min (...) dxi < 0
 
 
 def xi0(gamma=1.4, n=3):
@@ -107,6 +116,30 @@ def shock_speed(t, energy, rho, n=3, gamma=1.4):
     return 2.0 / (n + 2) * shock_radius(t, energy, rho, n, gamma) / t
 
 
+def profile(r, t, energy, rho, n=3, gamma=1.4, p_ambient=0.0, xi_min=1e-6):
+    """The exact self-similar state at radii r and time t: (rho, u, p) arrays of r's shape.
+
+    Behind the shock rho = rho0 g(xi), u = D phi(xi), p = rho0 D^2 h(xi) with xi = r/R(t)
+    and D = dR/dt (the ODEs of `_rhs`, integrated once with dense output); ahead of it
+    (xi > 1) the gas at rest, rho0 and p_ambient.  The strong-shock solution holds for
+    p_ambient << rho0 D^2; inside xi_min the values at xi_min (the centre, where g -> 0)."""
+    r = np.asarray(r, dtype=float)
+    radius = float(shock_radius(t, energy, rho, n, gamma))
+    speed = float(shock_speed(t, energy, rho, n, gamma))
+    sol = _integrate(gamma, n, xi_min, dense=True)
+    xi = r / radius
+    inside = xi <= 1.0
+    s = np.log(np.clip(xi[inside], xi_min, 1.0))
+    g, phi, h = sol.sol(s)[:3] if s.size else (np.empty(0),) * 3
+    density = np.full(r.shape, float(rho))
+    velocity = np.zeros(r.shape)
+    pressure = np.full(r.shape, float(p_ambient))
+    density[inside] = rho * g
+    velocity[inside] = speed * phi
+    pressure[inside] = rho * speed * speed * h
+    return density, velocity, pressure
+
+
 if __name__ == "__main__":
     import sys
     failures = 0
@@ -125,4 +158,17 @@ if __name__ == "__main__":
         failures += not ok
         print("%s gamma=%.6g n=%d alpha = %.10f tabulated %.8f xi0 = %.6f"
               % ("ok  " if ok else "FAIL", g, n, a, a_tab, a ** (-1.0 / (n + 2))))
+    # the profile: the strong-shock jump just inside R, ambient just outside, and the
+    # energy of the profile (kinetic + internal over the ball) equal to E
+    e_blast, t_end = 1.0, 1.0
+    radius = float(shock_radius(t_end, e_blast, 1.0))
+    r = np.linspace(0.0, radius, 200001)[1:]
+    d, u, p = profile(r, t_end, e_blast, 1.0)
+    dens = (0.5 * d * u * u + p / 0.4) * 4.0 * math.pi * r * r
+    total = float(np.sum(0.5 * (dens[1:] + dens[:-1]) * np.diff(r)))
+    jump = profile(np.array([radius * (1 - 1e-12), radius * (1 + 1e-12)]), t_end, e_blast, 1.0)[0]
+    ok = abs(total - e_blast) < 1e-4 and abs(jump[0] - 6.0) < 1e-6 and jump[1] == 1.0
+    failures += not ok
+    print("%s profile gamma=1.4 n=3: energy of the profile %.6f (E = 1), rho behind the shock "
+          "%.6f (6), ahead %.1f" % ("ok  " if ok else "FAIL", total, jump[0], jump[1]))
     sys.exit(1 if failures else 0)
