@@ -185,18 +185,18 @@ contains
     call log_line(line)
     if (s%ls%n > 0) then
       write(line, '(a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a,i0,a)') 'gfm: ', &
-        f%gfm%ghosts, ' ghost fills: ', f%gfm%trilinear, &
-        ' trilinear (', f%gfm%incomplete, ' with an incomplete stencil), ', &
-        f%gfm%least_squares, ' least squares, ', f%gfm%mean, &
-        ' mean of neighbours, ', f%gfm%unfilled, ' without a real neighbour, ', &
-        f%gfm%limited, ' ghost pressures limited'
+        f%gfm(1), ' ghost fills: ', f%gfm(2), &
+        ' trilinear (', f%gfm(3), ' with an incomplete stencil), ', &
+        f%gfm(4), ' least squares, ', f%gfm(5), &
+        ' mean of neighbours, ', f%gfm(6), ' without a real neighbour, ', &
+        f%gfm(7), ' ghost pressures limited'
       call log_line(line)
-      write(line, '(a,i0,a,i0,a)') 'gfm: ', f%gfm%mmi, &
+      write(line, '(a,i0,a,i0,a)') 'gfm: ', f%gfm(8), &
         ' ghosts across a material-material interface (MMI), ', &
-        f%gfm%separated, ' contact ghosts in tension treated as free surfaces'
+        f%gfm(9), ' contact ghosts in tension treated as free surfaces'
       call log_line(line)
-      write(line, '(a,i0,a,i0,a)') 'gfm: ', f%gfm%debris, ' inadmissible cells ' // &
-        'within 2 cells of a body surface taken out of the body as debris; ', f%gfm%absent, &
+      write(line, '(a,i0,a,i0,a)') 'gfm: ', f%gfm(10), ' inadmissible cells ' // &
+        'within 2 cells of a body surface taken out of the body as debris; ', f%gfm(11), &
         ' right-hand sides of a phase on a block it is absent from not computed'
       call log_line(line)
       if (s%fix%on) then

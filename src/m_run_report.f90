@@ -10,7 +10,7 @@ module m_run_report
   use m_simulation, only: sim_t
   use m_memory, only: mem_parts
   use m_hotspot, only: hot_json
-  use m_gfm, only: gfm_counts_t
+  use m_gfm, only: gfm_count_names, gfm_count_list
   use m_comm, only: comm_sum, comm_min, comm_max, comm_size, comm_wtime, comm_is_root
   use m_errors, only: log_line, log_flush
   use m_timers, only: timer_total, memory_kb
@@ -38,7 +38,8 @@ module m_run_report
     integer :: blocks_min = 0, blocks_max = 0   !< blocks per rank
     real(wp) :: time = 0.0_wp
     integer(i8) :: cell_steps = 0, fallback_faces = 0, cells_low = 0
-    type(gfm_counts_t) :: gfm
+    !> the ghost-fluid counts (m_gfm's gfm_count_names) summed over the ranks
+    integer(i8) :: gfm(size(gfm_count_names)) = 0
     real(wp) :: gfm_s = 0.0_wp, reinit_s = 0.0_wp
     !> mass (kg) and energy (J) that the conservation fix took out, and as per cent of the
     !> solids' content at the start (NaN where that part is off)
@@ -185,6 +186,7 @@ contains
     real(wp), intent(in) :: elapsed, loop, base
     type(run_facts_t) :: f
     real(wp) :: work, cells
+    integer :: k
     f%step = s%clk%step
     f%time = s%clk%time
     f%first_order_steps = s%diag%first_order_steps
@@ -193,17 +195,10 @@ contains
     f%cell_steps = comm_sum(s%diag%cell_steps)
     f%fallback_faces = comm_sum(s%diag%fallback_faces)
     f%cells_low = comm_sum(s%diag%cells_low)
-    f%gfm%ghosts = comm_sum(s%gf%counts%ghosts)
-    f%gfm%trilinear = comm_sum(s%gf%counts%trilinear)
-    f%gfm%incomplete = comm_sum(s%gf%counts%incomplete)
-    f%gfm%least_squares = comm_sum(s%gf%counts%least_squares)
-    f%gfm%mean = comm_sum(s%gf%counts%mean)
-    f%gfm%unfilled = comm_sum(s%gf%counts%unfilled)
-    f%gfm%limited = comm_sum(s%gf%counts%limited)
-    f%gfm%mmi = comm_sum(s%gf%counts%mmi)
-    f%gfm%separated = comm_sum(s%gf%counts%separated)
-    f%gfm%debris = comm_sum(s%gf%counts%debris)
-    f%gfm%absent = comm_sum(s%gf%counts%absent)
+    f%gfm = gfm_count_list(s%gf%counts)
+    do k = 1, size(f%gfm)
+      f%gfm(k) = comm_sum(f%gfm(k))
+    end do
     f%gfm_s = comm_max(timer_total(s%timers, 'gfm'))
     f%reinit_s = comm_max(timer_total(s%timers, 'reinit'))
     if (s%fix%on) then
@@ -345,17 +340,9 @@ contains
     call json_close(js)
     if (s%ls%n > 0) then
       call json_object(js, 'gfm')
-      call json_put(js, 'ghost_fills', f%gfm%ghosts)
-      call json_put(js, 'trilinear', f%gfm%trilinear)
-      call json_put(js, 'incomplete_stencil', f%gfm%incomplete)
-      call json_put(js, 'least_squares', f%gfm%least_squares)
-      call json_put(js, 'mean_of_neighbours', f%gfm%mean)
-      call json_put(js, 'without_real_neighbour', f%gfm%unfilled)
-      call json_put(js, 'pressures_limited', f%gfm%limited)
-      call json_put(js, 'mmi', f%gfm%mmi)
-      call json_put(js, 'contact_in_tension', f%gfm%separated)
-      call json_put(js, 'debris', f%gfm%debris)
-      call json_put(js, 'absent_phase_rhs', f%gfm%absent)
+      do k = 1, size(f%gfm)
+        call json_put(js, trim(gfm_count_names(k)), f%gfm(k))
+      end do
       call json_put(js, 'fill_seconds', f%gfm_s)
       call json_put(js, 'reinit_seconds', f%reinit_s)
       call json_close(js)

@@ -18,7 +18,8 @@ module m_simulation
   use m_balance, only: balance_t, balance_start
   use m_boundary, only: bc_kind_t, bc_from_name
   use m_eos, only: eos_t, eos_from_material, eos_energy, eos_prepare, eos_temperature
-  use m_euler, only: euler_work_t, euler_work_init, numerics_t, euler_max_rate
+  use m_euler, only: euler_work_t, euler_work_init, numerics_t
+  use m_runge_kutta, only: euler_max_rate
   use m_phases, only: phases_t
   use m_fallback, only: counters_t
   use m_gfm_conserve, only: fix_t, fix_setup

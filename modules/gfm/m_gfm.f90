@@ -32,7 +32,7 @@ module m_gfm
   public :: gfm_work_t, gfm_work_init, gfm_fill, gfm_rest, gfm_counts_t, gfm_scene_t
   public :: gfm_drop_debris, gfm_dormant, gf_t, gf_fit
   public :: probe_kind_trilinear, probe_kind_least_squares, probe_kind_auto, probe_from_name
-  public :: probe_names
+  public :: probe_names, gfm_count_names, gfm_count_list
 
   integer, parameter :: probe_kind_trilinear = 1, probe_kind_least_squares = 2
   integer, parameter :: probe_kind_auto = 3
@@ -52,6 +52,12 @@ module m_gfm
     integer(i8) :: debris = 0       !< inadmissible surface cells taken out of a body
     integer(i8) :: absent = 0       !< phase right-hand sides skipped: the phase not in the block
   end type gfm_counts_t
+  !> the counts as one list (gfm_count_list), in this order, with their names in run.json
+  !> (m_run_report; run.log says them in the same order, m_run_log)
+  character(len=22), parameter :: gfm_count_names(11) = [character(len=22) :: 'ghost_fills', &
+    'trilinear', 'incomplete_stencil', 'least_squares', 'mean_of_neighbours', &
+    'without_real_neighbour', 'pressures_limited', 'mmi', 'contact_in_tension', 'debris', &
+    'absent_phase_rhs']
 
   type :: gfm_work_t
     real(wp), allocatable :: w(:, :, :, :, :)  !< primitive states (padded block, nflow, phase)
@@ -85,6 +91,14 @@ module m_gfm
   end type gf_t
 
 contains
+
+  !> The counts of c in the order of gfm_count_names.
+  pure function gfm_count_list(c) result(v)
+    type(gfm_counts_t), intent(in) :: c
+    integer(i8) :: v(size(gfm_count_names))
+    v = [c%ghosts, c%trilinear, c%incomplete, c%least_squares, c%mean, c%unfilled, &
+      c%limited, c%mmi, c%separated, c%debris, c%absent]
+  end function gfm_count_list
 
   !> Shape gf's work space for a block of layout (or view) bl, when it has another extent
   !> than the block it was last shaped for (the last block along a direction may differ).

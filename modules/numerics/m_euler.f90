@@ -9,11 +9,10 @@
 !> With reaction (m_reaction) the last variable of a phase is rho lambda, after the Euler or
 !> the solid variables: 6 or 14 variables instead of 5 or 13. It is carried by the mass flux
 !> with lambda upwinded and bounded (eq. 8.6), like eps_p and w_c.
-!> Also here: the largest signal rate for the CFL step and the RK stage update.
 !> Kernels only: no MPI, no I/O, no allocation in the loops (workspace is allocated once).
 module m_euler
   use m_kinds, only: wp
-  use m_eos, only: eos_t, eos_sound_speed2, eos_energy
+  use m_eos, only: eos_t
   use m_characteristic, only: characteristic_work_t, characteristic_work_init
   use m_flux, only: scalar_flux_upwind
   use m_euler_faces, only: numerics_t, faces_and_fluxes
@@ -25,7 +24,17 @@ module m_euler
   use m_layout, only: layout_t, cell_volume
   implicit none
   private
-  public :: numerics_t, euler_work_t, cut_faces_t, euler_work_init, euler_rhs, euler_max_rate
+  public :: numerics_t, euler_work_t, cut_faces_t, euler_work_init, euler_rhs
+
+  !> The pencil frame of direction d: which state variable is each pencil variable,
+  !> (rho, u_n, u_t1, u_t2, p, S_nn, S_nt1, S_nt2, S_t1t1, S_t2t2, S_t1t2, eps_p, w_c).
+  integer, parameter :: frame(n_solid, 3) = reshape([ &
+    1, 2, 3, 4, 5, i_sxx, i_sxy, i_sxz, i_syy, i_szz, i_syz, i_epsp, i_wcold, &
+    1, 3, 2, 4, 5, i_syy, i_sxy, i_syz, i_sxx, i_szz, i_sxz, i_epsp, i_wcold, &
+    1, 4, 2, 3, 5, i_szz, i_sxz, i_syz, i_sxx, i_syy, i_sxy, i_epsp, i_wcold], [n_solid, 3])
+  !> bundles of pencils: x pencils bundled over j at each k, y pencils over i at each k, z
+  !> pencils over i at each j
+  integer, parameter :: bundle_dir(3) = [2, 1, 1], outer_dir(3) = [3, 3, 2]
 
   !> Scratch space for one block and one bundle of pencils, allocated once per run. The
   !> bundle buffers are flat and take the shape (nb, cells along the pencil, 5) of each use.
@@ -170,31 +179,13 @@ contains
       pwall = wall(:, d) .and. [o1 == 0, o1 + n == lay%bsize(d)]
       g = lay%ng(d)
       rdx = 1.0_wp / lay%dx(d)
-      ! pencil frame: (rho, u_normal, u_t1, u_t2, p); bundles of pencils, the bundle index
-      ! contiguous: x pencils bundled over j, y and z pencils over i
-      select case (d)
-      case (1)   ! x pencils at each k, bundled over j
-        perm = [1, 2, 3, 4, 5, i_sxx, i_sxy, i_sxz, i_syy, i_szz, i_syz, i_epsp, &
-          i_wcold, 0]
-        ob = bx(1, 2) - 1
-        nb = bx(2, 2) - ob
-        cl = bx(1, 3)
-        ch = bx(2, 3)
-      case (2)   ! y pencils at each k, bundled over i
-        perm = [1, 3, 2, 4, 5, i_syy, i_sxy, i_syz, i_sxx, i_szz, i_sxz, i_epsp, &
-          i_wcold, 0]
-        ob = bx(1, 1) - 1
-        nb = bx(2, 1) - ob
-        cl = bx(1, 3)
-        ch = bx(2, 3)
-      case default   ! z pencils at each j, bundled over i
-        perm = [1, 4, 2, 3, 5, i_szz, i_sxz, i_syz, i_sxx, i_syy, i_sxy, i_epsp, &
-          i_wcold, 0]
-        ob = bx(1, 1) - 1
-        nb = bx(2, 1) - ob
-        cl = bx(1, 2)
-        ch = bx(2, 2)
-      end select
+      ! pencil frame (frame(:, d)); the bundle index contiguous (bundle_dir), one bundle at
+      ! each c of outer_dir
+      perm = [frame(:, d), 0]
+      ob = bx(1, bundle_dir(d)) - 1
+      nb = bx(2, bundle_dir(d)) - ob
+      cl = bx(1, outer_dir(d))
+      ch = bx(2, outer_dir(d))
       ! rho lambda keeps its place, after the Euler or solid variables
       if (nv > ns) perm(nv) = nv
       do c = cl, ch
@@ -582,47 +573,5 @@ contains
     end subroutine edge
 
   end subroutine euler_rhs
-
-
-  !> Largest sum over directions of (|u_d| + c) / dx_d over the interior: dt = cfl / rate.
-  !> Also reports whether every interior cell is admissible (rho > 0, c^2 > 0, finite).
-  subroutine euler_max_rate(lay, eos, shear, q, rate, admissible)
-    type(layout_t), intent(in) :: lay
-    type(eos_t), intent(in) :: eos
-    real(wp), intent(in) :: shear
-    real(wp), intent(in) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
-    real(wp), intent(out) :: rate
-    logical, intent(out) :: admissible
-    integer :: j, k, i, n
-    real(wp) :: r, c2(lay%bsize(1)), rdx(3)
-    real(wp) :: rho(lay%bsize(1)), u(lay%bsize(1)), v(lay%bsize(1)), w(lay%bsize(1))
-    real(wp) :: p(lay%bsize(1)), e(lay%bsize(1))
-    n = lay%bsize(1)
-    rdx = 0.0_wp
-    rdx(1:lay%ndim) = 1.0_wp / lay%dx(1:lay%ndim)
-    rate = 0.0_wp
-    admissible = .true.
-    do k = 1, lay%bsize(3)
-      do j = 1, lay%bsize(2)
-        if (any(.not. (q(1:n, j, k, i_rho) > 0.0_wp))) then
-          admissible = .false.
-          cycle
-        end if
-        call primitive_row(eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
-          q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
-        call eos_sound_speed2(eos, n, rho, p, c2)
-        c2 = c2 + (4.0_wp / 3.0_wp) * shear / rho
-        do i = 1, n
-          if (.not. (c2(i) > 0.0_wp .and. c2(i) < huge(1.0_wp))) then
-            admissible = .false.
-            cycle
-          end if
-          r = sqrt(c2(i)) * sum(rdx) + abs(u(i)) * rdx(1) + abs(v(i)) * rdx(2) &
-            + abs(w(i)) * rdx(3)
-          rate = max(rate, r)
-        end do
-      end do
-    end do
-  end subroutine euler_max_rate
 
 end module m_euler

@@ -1,13 +1,17 @@
 !> The TVD Runge-Kutta steps of Shu and Osher (1988) that every update shares: the stage
 !> update of the interior (rk_stage_update), the weight of the step's start in a stage
 !> (rk_blend), and the weight of each stage's right-hand side in the whole step (rk_weights,
-!> what crossed a face in a step, for the budgets).
+!> what crossed a face in a step, for the budgets); and the largest signal rate of a block,
+!> which sets the step (euler_max_rate).
 module m_runge_kutta
   use m_kinds, only: wp
   use m_layout, only: layout_t
+  use m_eos, only: eos_t, eos_sound_speed2
+  use m_elastoplastic, only: primitive_row
+  use m_state, only: i_rho, i_mx, i_my, i_mz, i_en
   implicit none
   private
-  public :: rk_stage_update, rk_weights, rk_blend
+  public :: rk_stage_update, rk_weights, rk_blend, euler_max_rate
 
 contains
 
@@ -78,5 +82,47 @@ contains
       w = [1.0_wp, 1.0_wp, 4.0_wp] / 6.0_wp
     end select
   end function rk_weights
+
+
+  !> Largest sum over directions of (|u_d| + c) / dx_d over the interior: dt = cfl / rate.
+  !> Also reports whether every interior cell is admissible (rho > 0, c^2 > 0, finite).
+  subroutine euler_max_rate(lay, eos, shear, q, rate, admissible)
+    type(layout_t), intent(in) :: lay
+    type(eos_t), intent(in) :: eos
+    real(wp), intent(in) :: shear
+    real(wp), intent(in) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    real(wp), intent(out) :: rate
+    logical, intent(out) :: admissible
+    integer :: j, k, i, n
+    real(wp) :: r, c2(lay%bsize(1)), rdx(3)
+    real(wp) :: rho(lay%bsize(1)), u(lay%bsize(1)), v(lay%bsize(1)), w(lay%bsize(1))
+    real(wp) :: p(lay%bsize(1)), e(lay%bsize(1))
+    n = lay%bsize(1)
+    rdx = 0.0_wp
+    rdx(1:lay%ndim) = 1.0_wp / lay%dx(1:lay%ndim)
+    rate = 0.0_wp
+    admissible = .true.
+    do k = 1, lay%bsize(3)
+      do j = 1, lay%bsize(2)
+        if (any(.not. (q(1:n, j, k, i_rho) > 0.0_wp))) then
+          admissible = .false.
+          cycle
+        end if
+        call primitive_row(eos, n, q(1:n, j, k, i_rho), q(1:n, j, k, i_mx), &
+          q(1:n, j, k, i_my), q(1:n, j, k, i_mz), q(1:n, j, k, i_en), rho, u, v, w, p, e)
+        call eos_sound_speed2(eos, n, rho, p, c2)
+        c2 = c2 + (4.0_wp / 3.0_wp) * shear / rho
+        do i = 1, n
+          if (.not. (c2(i) > 0.0_wp .and. c2(i) < huge(1.0_wp))) then
+            admissible = .false.
+            cycle
+          end if
+          r = sqrt(c2(i)) * sum(rdx) + abs(u(i)) * rdx(1) + abs(v(i)) * rdx(2) &
+            + abs(w(i)) * rdx(3)
+          rate = max(rate, r)
+        end do
+      end do
+    end do
+  end subroutine euler_max_rate
 
 end module m_runge_kutta

@@ -30,8 +30,8 @@ program test_euler
   use m_yield, only: strength_t, strength_elastic
   use m_reconstruct, only: scheme_eno1, scheme_eno2, scheme_eno3, scheme_weno5
   use m_flux, only: flux_kind_llf, flux_kind_hllc, scalar_flux_llf, scalar_flux_upwind
-  use m_runge_kutta, only: rk_stage_update
-  use m_euler, only: euler_work_t, euler_work_init, euler_rhs, euler_max_rate, numerics_t
+  use m_runge_kutta, only: rk_stage_update, euler_max_rate
+  use m_euler, only: euler_work_t, euler_work_init, euler_rhs, numerics_t
   use m_layout, only: layout_t, layout_init, block_view
   use m_state, only: n_euler, n_solid, i_rho, i_mx, i_mz, i_en, i_sxx, i_syy, i_szz, &
     i_sxy, i_syz, i_sxz, i_epsp, i_wcold
