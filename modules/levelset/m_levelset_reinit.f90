@@ -46,7 +46,11 @@ contains
   !> default band of 6, the depth of the ghost band, beyond which nothing moves the level
   !> set), the ghost cells of the level sets filled (m_boundary) before every RK stage. The
   !> cells next to the surface are frozen: the zero level set stays where the advection put
-  !> it. skip: the dormant blocks (their level sets are filled all the same).
+  !> it. skip: the dormant blocks, not reinitialised (their halos are filled all the same):
+  !> every cell of such a block, halo included, lies beyond every ghost band, where only the
+  !> level sets' signs and that test matter, and the block is not advected either; when a surface comes near, the block wakes while the band is
+  !> still in its halo, and the reinitialisations that follow rebuild its distance
+  !> (performance.md, "Reinitialisation only where a surface is").
   subroutine levelset_reinitialise(plan, lay, bc, ph, blocks, moves, band, time, skip)
     type(halo_plan_t), intent(inout) :: plan
     type(layout_t), intent(in) :: lay
@@ -73,6 +77,7 @@ contains
         if (it > 1 .or. stage > 1) &
           call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_level_sets, time, skip)
         do b = 1, size(blocks)
+          if (skip(b)) cycle
           do l = 1, nls
             if (.not. moves(l)) cycle
             call levelset_reinit_step(lay%ndim, blocks(b)%n, lay%ng, lay%dx, &
