@@ -180,6 +180,10 @@ contains
           where = '&' // groups(g)%name // ' ' // trim(vars(j)%name)
           at = ' on the command line'
           if (a%line > 0) at = ' at line ' // int_text(a%line)
+          ! a list with a count (fields) given on the command line without an index
+          ! replaces the deck's list, rather than only its first entries
+          if (a%line == 0 .and. len(a%index) == 0 .and. associated(vars(j)%count) .and. &
+            associated(vars(j)%ca)) vars(j)%ca = ''
           why = assign_value(vars(j), a%index, a%value)
           if (len(why) > 0) then
             call fail(where // a%index, why // at, vars(j)%typical)
