@@ -48,9 +48,10 @@ contains
   !> cells next to the surface are frozen: the zero level set stays where the advection put
   !> it. skip: the dormant blocks, not reinitialised (their halos are filled all the same):
   !> every cell of such a block, halo included, lies beyond every ghost band, where only the
-  !> level sets' signs and that test matter, and the block is not advected either; when a surface comes near, the block wakes while the band is
-  !> still in its halo, and the reinitialisations that follow rebuild its distance
-  !> (performance.md, "Reinitialisation only where a surface is").
+  !> level sets' signs and that test matter, and the block is not advected either; when a
+  !> surface comes near, the block wakes while the band is still in its halo, and the
+  !> reinitialisations that follow rebuild its distance (performance.md, "Reinitialisation
+  !> only where a surface is").
   subroutine levelset_reinitialise(plan, lay, bc, ph, blocks, moves, band, time, skip)
     type(halo_plan_t), intent(inout) :: plan
     type(layout_t), intent(in) :: lay
@@ -68,6 +69,7 @@ contains
     allocate(rs(size(blocks)))
     call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_level_sets, time, skip)
     do b = 1, size(blocks)
+      if (skip(b)) cycle
       rs(b)%phi0 = blocks(b)%q(:, :, :, ph%ils + 1:ph%nvar)
       allocate(rs(b)%old(blocks(b)%n(1), blocks(b)%n(2), blocks(b)%n(3), nls))
     end do

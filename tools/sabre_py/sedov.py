@@ -93,7 +93,7 @@ def alpha(gamma=1.4, n=3, xi_min=1e-8):
     Integrates the similarity ODEs from the strong-shock state at xi = 1 down to xi_min
     (`_integrate`; the part of the energy inside xi_min is negligible)."""
     delta = 2.0 / (n + 2.0)
-    return delta * delta * -_integrate(gamma, n, xi_min).y[3, -1]  # int_1^xi_min < 0  # y[3] = int_1^xi_min (...) dxi < 0
+    return delta * delta * -_integrate(gamma, n, xi_min).y[3, -1]  # y[3] = int_1^xi_min < 0
 
 
 def xi0(gamma=1.4, n=3):
