@@ -402,6 +402,7 @@ contains
     logical, intent(out) :: isreal(:)
     real(wp), intent(out), optional :: least(:)   !< the composite level set of that phase
     real(wp) :: bigphi(size(qrow, 1), 1, 1), best(size(qrow, 1))
+    real(wp) :: phi(size(qrow, 1), 1, 1, sim%ls%n)
     integer :: owner(size(qrow, 1), 1, 1), p, nr
     sel = 1
     isreal = .true.
@@ -409,9 +410,9 @@ contains
     if (sim%ls%n == 0) return
     nr = size(qrow, 1)
     best = huge(1.0_wp)
+    phi = reshape(qrow(:, sim%ph%ils + 1:sim%ph%nvar), [nr, 1, 1, sim%ls%n])
     do p = 1, sim%ph%nphase
-      call ls_region(sim%ls, p, [1, 1, 1], [nr, 1, 1], &
-        reshape(qrow(:, sim%ph%ils + 1:sim%ph%nvar), [nr, 1, 1, sim%ls%n]), bigphi, owner)
+      call ls_region(sim%ls, p, [1, 1, 1], [nr, 1, 1], phi, bigphi, owner)
       where (bigphi(:, 1, 1) < best)
         sel = p
         best = bigphi(:, 1, 1)

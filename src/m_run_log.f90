@@ -133,6 +133,9 @@ contains
             ' colours (level sets), ', body%generated_fraction, &
             ' of the box lo..hi (seed ', body%seed, '; asked: volume_fraction ', &
             body%volume_fraction, ')'
+          if (body%grains%needed > body%grains%ncolour) write(line, '(a,i0,a)') trim(line) &
+            // '; colours cut from ', body%grains%needed, ' by &body colours: grains nearer' &
+            // ' than the ghost band share level sets'
         case default
           cycle
         end select

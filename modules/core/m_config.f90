@@ -41,6 +41,7 @@ module m_config
     real(wp), allocatable :: seed(:, :)                     !< (3, n)
     integer, allocatable :: colour(:), first(:), near(:), head(:), next(:)
     integer :: ncolour = 0, nbin(3) = 1
+    integer :: needed = 0     !< colours the ghost band needs (ncolour unless &body colours cut it)
     real(wp) :: thickness = 0.0_wp, cap = 0.0_wp, bin = 1.0_wp
   end type grains_t
 
@@ -53,7 +54,7 @@ module m_config
     real(wp) :: amplitude = 0.0_wp, wavevector(3) = 0.0_wp
     ! the scene generators (shape 'random_spheres', 'random_field' or 'grains' filling the
     ! box lo..hi; m_scene_generate, m_scene_field)
-    integer :: seed = 1, count = 0
+    integer :: seed = 1, count = 0, colours = 0
     character(len=name_len) :: size_distribution = 'fixed'
     real(wp) :: volume_fraction = 0.0_wp, radius_min = 0.0_wp, radius_max = 0.0_wp
     real(wp) :: radius_sigma = 0.0_wp, gap = 0.0_wp, correlation_length = 0.0_wp

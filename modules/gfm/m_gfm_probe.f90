@@ -16,9 +16,12 @@
 !> Kernels only.
 module m_gfm_probe
   use m_kinds, only: wp
+  use m_state, only: n_solid
   implicit none
   private
   public :: probe_trilinear, probe_least_squares
+
+  integer, parameter :: max_var = n_solid + 1   !< a solid phase's variables and its reaction
 
 contains
 
@@ -60,11 +63,15 @@ contains
     real(wp), intent(out) :: val(:)
     integer, intent(out) :: npts
     integer, intent(in), optional :: bounded_from
-    real(wp) :: a(4, 4), rhs(4, size(val)), row(4), wt, wsum(size(val))
-    real(wp) :: wmin(size(val)), wmax(size(val))
-    integer :: ic(3), c(3), m, i, j, k, reach(3), r, nb
+    ! fixed sizes (a phase has at most max_var variables): automatic arrays would be taken
+    ! from the heap on every call, and this runs once per ghost cell and stage
+    real(wp) :: a(4, 4), rhs(4, max_var), row(4), wt, wsum(max_var)
+    real(wp) :: wmin(max_var), wmax(max_var)
+    integer :: ic(3), c(3), m, i, j, k, reach(3), r, nb, nv, p, q
     logical :: ok
-    nb = size(val) + 1
+    nv = size(val)
+    if (nv > max_var) error stop 'probe_least_squares: more variables than max_var'
+    nb = nv + 1
     if (present(bounded_from)) nb = bounded_from
     m = ndim + 1
     ic = 1
@@ -90,59 +97,76 @@ contains
             row(1) = 1.0_wp
             row(2:m) = real(c(1:ndim), wp) - s(1:ndim)
             wt = 1.0_wp / (1.0_wp + sum(row(2:m)**2))
-            a(1:m, 1:m) = a(1:m, 1:m) + wt * spread(row(1:m), 2, m) * spread(row(1:m), 1, m)
-            rhs(1:m, :) = rhs(1:m, :) + wt * spread(row(1:m), 2, size(val)) &
-              * spread(w(i, j, k, :), 1, m)
-            wsum = wsum + w(i, j, k, :)
-            wmin = min(wmin, w(i, j, k, :))
-            wmax = max(wmax, w(i, j, k, :))
+            do q = 1, m
+              do p = 1, m
+                a(p, q) = a(p, q) + wt * row(p) * row(q)
+              end do
+            end do
+            do q = 1, nv
+              do p = 1, m
+                rhs(p, q) = rhs(p, q) + wt * row(p) * w(i, j, k, q)
+              end do
+              wsum(q) = wsum(q) + w(i, j, k, q)
+              wmin(q) = min(wmin(q), w(i, j, k, q))
+              wmax(q) = max(wmax(q), w(i, j, k, q))
+            end do
           end do
         end do
       end do
       if (npts >= m) then
-        call solve_small(m, a, rhs, ok)
+        call solve_small(m, nv, a, rhs, ok)
         if (ok) then
-          val = rhs(1, :)
-          if (nb <= size(val)) val(nb:) = min(max(val(nb:), wmin(nb:)), wmax(nb:))
+          val = rhs(1, 1:nv)
+          if (nb <= nv) val(nb:) = min(max(val(nb:), wmin(nb:nv)), wmax(nb:nv))
           return
         end if
       end if
     end do
     ! too few real neighbours (a thin sliver, a corner): the mean of those within two cells
     val = 0.0_wp
-    if (npts > 0) val = wsum / real(npts, wp)
+    if (npts > 0) val = wsum(1:nv) / real(npts, wp)
     npts = -npts
   end subroutine probe_least_squares
 
-  !> Solve a(1:m, 1:m) x = b(1:m, :) in place (x in b) by Gaussian elimination with partial
-  !> pivoting; ok is false when a pivot is below 1e-10 of the largest diagonal entry.
-  pure subroutine solve_small(m, a, b, ok)
-    integer, intent(in) :: m
+  !> Solve a(1:m, 1:m) x = b(1:m, 1:nv) in place (x in b) by Gaussian elimination with
+  !> partial pivoting; ok is false when a pivot is below 1e-10 of the largest diagonal entry.
+  pure subroutine solve_small(m, nv, a, b, ok)
+    integer, intent(in) :: m, nv
     real(wp), intent(inout) :: a(:, :), b(:, :)
     logical, intent(out) :: ok
-    integer :: c, r, p
-    real(wp) :: scale, t(size(b, 2)), f, trow(size(a, 2))
+    integer :: c, r, p, v
+    real(wp) :: scale, t, f, s
     scale = maxval([(abs(a(c, c)), c = 1, m)])
     ok = .false.
     do c = 1, m
       p = c - 1 + maxloc(abs(a(c:m, c)), 1)
       if (abs(a(p, c)) <= 1.0e-10_wp * scale) return
       if (p /= c) then
-        trow = a(c, :)
-        a(c, :) = a(p, :)
-        a(p, :) = trow
-        t = b(c, :)
-        b(c, :) = b(p, :)
-        b(p, :) = t
+        do v = 1, size(a, 2)
+          t = a(c, v)
+          a(c, v) = a(p, v)
+          a(p, v) = t
+        end do
+        do v = 1, nv
+          t = b(c, v)
+          b(c, v) = b(p, v)
+          b(p, v) = t
+        end do
       end if
       do r = c + 1, m
         f = a(r, c) / a(c, c)
         a(r, c:m) = a(r, c:m) - f * a(c, c:m)
-        b(r, :) = b(r, :) - f * b(c, :)
+        b(r, 1:nv) = b(r, 1:nv) - f * b(c, 1:nv)
       end do
     end do
     do c = m, 1, -1
-      b(c, :) = (b(c, :) - matmul(a(c, c+1:m), b(c+1:m, :))) / a(c, c)
+      do v = 1, nv
+        s = 0.0_wp
+        do r = c + 1, m
+          s = s + a(c, r) * b(r, v)
+        end do
+        b(c, v) = (b(c, v) - s) / a(c, c)
+      end do
     end do
     ok = .true.
   end subroutine solve_small

@@ -199,6 +199,8 @@ contains
       'random_*, grains: share of the box lo..hi it fills (area in 2D)', allowed='in [0, 1)')
     call t%add('count', b%count, '100', 'random_spheres (0: from volume_fraction), grains: ' &
       // 'how many', allowed='>= 0')
+    call t%add('colours', b%colours, '0', 'grains: most level sets; 0: as many as keep ' &
+      // 'grains of one a ghost band apart (fewer: near grains share one)', allowed='>= 0')
     call t%add('size_distribution', b%size_distribution, "'fixed'", &
       'random_spheres: radius; uniform in radius_min..max; lognormal', size_distribution_names)
     call t%add('radius_min', b%radius_min, '4.0e-6', 'random_spheres: smallest radius (m)', &

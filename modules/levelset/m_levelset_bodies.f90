@@ -42,41 +42,53 @@ contains
     real(wp), intent(in) :: phi(lo(1):, lo(2):, lo(3):, :)
     real(wp), intent(out) :: bigphi(lo(1):, lo(2):, lo(3):)
     integer, intent(out) :: owner(lo(1):, lo(2):, lo(3):)
-    integer :: l
+    integer :: l, i, j, k
     logical :: base
-    ! level set by level set over the whole box (the cells vectorise); the first that
-    ! attains the extremum owns the cell, as a cell-by-cell loop over l would have it
+    ! level set by level set over the whole box (the inner loops vectorise, as blends); the
+    ! first that attains the extremum owns the cell, as a cell-by-cell loop over l would have
+    ! it. Explicit loops, not where blocks: a where block of two assignments builds its mask
+    ! in a temporary array first.
     base = set%base_flows .and. p == 1
-    associate (v => bigphi(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)), &
-        own => owner(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-      v = merge(-huge(1.0_wp), huge(1.0_wp), base)
-      own = 0
-      do l = 1, set%n
-        if (set%kind(l) /= ls_material) cycle
-        associate (f => phi(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), l))
-          if (base) then
-            where (-f > v)
-              v = -f
-              own = -l
-            end where
-          else if (set%phase(l) == p) then
-            where (f < v)
-              v = f
-              own = -l
-            end where
-          end if
-        end associate
+    bigphi(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = merge(-huge(1.0_wp), huge(1.0_wp), base)
+    owner(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = 0
+    do l = 1, set%n
+      if (set%kind(l) /= ls_material) cycle
+      if (base) then
+        call take_max(l, -l)
+      else if (set%phase(l) == p) then
+        do k = lo(3), hi(3)
+          do j = lo(2), hi(2)
+            do i = lo(1), hi(1)
+              if (phi(i, j, k, l) < bigphi(i, j, k)) then
+                bigphi(i, j, k) = phi(i, j, k, l)
+                owner(i, j, k) = -l
+              end if
+            end do
+          end do
+        end do
+      end if
+    end do
+    do l = 1, set%n
+      if (set%kind(l) == ls_material) cycle
+      call take_max(l, merge(l, 0, set%kind(l) == ls_rigid))
+    end do
+
+  contains
+
+    !> where -phi_l exceeds bigphi, bigphi = -phi_l and the owner o
+    subroutine take_max(l, o)
+      integer, intent(in) :: l, o
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            if (-phi(i, j, k, l) > bigphi(i, j, k)) then
+              bigphi(i, j, k) = -phi(i, j, k, l)
+              owner(i, j, k) = o
+            end if
+          end do
+        end do
       end do
-      do l = 1, set%n
-        if (set%kind(l) == ls_material) cycle
-        associate (f => phi(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3), l))
-          where (-f > v)
-            v = -f
-            own = merge(l, 0, set%kind(l) == ls_rigid)
-          end where
-        end associate
-      end do
-    end associate
+    end subroutine take_max
   end subroutine ls_region
 
   !> Bodies may not overlap: where two material level sets are both negative, both move to

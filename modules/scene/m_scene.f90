@@ -176,7 +176,7 @@ contains
             body%volume_fraction, body%field, body%generated_fraction, why)
         case ('grains')
           call make_grains(ndim, body%lo, body%hi, body%seed, body%count, &
-            body%volume_fraction, g, body%grains, body%generated_fraction, why)
+            body%volume_fraction, g, body%grains, body%generated_fraction, why, body%colours)
         case default
           cycle
         end select
@@ -258,6 +258,8 @@ contains
     call rule((b%shape == 'sphere' .or. b%shape == 'cylinder') .and. .not. &
       b%radius > 0.0_wp, 'body radius', what // got_text(b%radius))
     if (generated) call generator_check()
+    call rule(b%colours > 0 .and. b%shape /= 'grains', 'body colours', 'is for grains only' &
+      // in_b // got_text(b%colours))
     call rule(b%shape == 'cylinder' .and. .not. b%length > 0.0_wp, 'body length', what &
       // got_text(b%length))
     call rule((b%shape == 'cylinder' .or. b%shape == 'half_space') .and. .not. &

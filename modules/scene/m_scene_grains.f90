@@ -24,8 +24,14 @@ contains
   !> come within g (the ghost band, a length) of each other, each seed's near seeds and the
   !> bins. achieved is the grains' volume fraction on that raster; why is '' or why the
   !> grains could not be made.
-  subroutine make_grains(ndim, lo, hi, seed, count, volume_fraction, g, gr, achieved, why)
+  !> max_colours > 0 (&body colours) deals the colours into at most that many level sets:
+  !> grains nearer than g may then share one, and the binder layer between them is seen by
+  !> one level set only (its ghost bands overlap). It is there to measure what the colours
+  !> cost (manual/hotspots.md section 5), not for results.
+  subroutine make_grains(ndim, lo, hi, seed, count, volume_fraction, g, gr, achieved, why, &
+      max_colours)
     integer, intent(in) :: ndim, seed, count
+    integer, intent(in), optional :: max_colours
     real(wp), intent(in) :: lo(3), hi(3), volume_fraction, g
     type(grains_t), intent(out) :: gr
     real(wp), intent(out) :: achieved
@@ -54,6 +60,13 @@ contains
     call grain_conflicts(c, ndim, lo, hi, gr%thickness, g, conflict)
     allocate(gr%colour(count))
     call colour_graph(conflict, gr%colour, gr%ncolour)
+    gr%needed = gr%ncolour
+    if (present(max_colours)) then
+      if (max_colours > 0 .and. gr%ncolour > max_colours) then
+        gr%colour = modulo(gr%colour - 1, max_colours) + 1
+        gr%ncolour = max_colours
+      end if
+    end if
     gr%seed = c
     gr%cap = s0
     ! bins of side s0 over the box, each seed in the bin of its position

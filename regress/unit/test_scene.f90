@@ -310,6 +310,16 @@ contains
       ', points of the wrong sign or above cap ', wrong
     call check('grain body: level sets exact within the band', worst < 1.0e-12_wp)
     call check('grain body: the sign right everywhere, never above cap', wrong == 0)
+    ! &body colours: the same grains dealt into fewer level sets, the band's need kept
+    col = gr%ncolour
+    call make_grains(2, lo, hi, 1, 1024, 0.9396_wp, g, gr, achieved, why, max_colours=2)
+    call check('grain body, colours = 2: two level sets, every grain in one of them', &
+      gr%ncolour == 2 .and. all(gr%colour >= 1 .and. gr%colour <= 2))
+    call check('grain body, colours = 2: the colours the band needs still reported', &
+      gr%needed == col .and. col > 2)
+    call make_grains(2, lo, hi, 1, 1024, 0.9396_wp, g, gr, achieved, why, max_colours=8)
+    call check('grain body, colours = 8: no cut where the band needs fewer', &
+      gr%ncolour == col .and. gr%needed == col)
   end subroutine grain_bodies
 
   !> the same bits (reals compared without a tolerance; arrays of any rank by pack)
