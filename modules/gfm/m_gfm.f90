@@ -140,8 +140,10 @@ contains
 
   !> Fill the ghost bands of every phase in the block interior and put each phase's rest
   !> state beyond its band. q holds the nflow flow variables of each phase in turn, then the
-  !> level sets; its halo must be current.
-  subroutine gfm_fill(lay, scn, set, q, work, counts, dormant)
+  !> level sets; its halo must be current. rested: the block was dormant at the previous
+  !> stage of this step, so its interior holds the rest states already (nothing computes a
+  !> dormant block) and a dormant block need not write them again.
+  subroutine gfm_fill(lay, scn, set, q, work, counts, dormant, rested)
     type(layout_t), intent(in) :: lay
     type(gfm_scene_t), intent(in) :: scn
     type(ls_set_t), intent(in) :: set
@@ -149,6 +151,7 @@ contains
     type(gfm_work_t), intent(inout) :: work
     type(gfm_counts_t), intent(inout) :: counts
     logical, intent(out) :: dormant   !< every cell, halo included, lies beyond every band
+    logical, intent(in), optional :: rested
     integer :: lo(3), hi(3), j, k, p, m, nflow, ils
     logical :: busy(set%nphase)
     real(wp) :: qrest(scn%nflow)
@@ -165,6 +168,9 @@ contains
     end do
     dormant = all(work%bigphi > scn%band)
     if (dormant) then
+      if (present(rested)) then
+        if (rested) return
+      end if
       ! every cell beyond every band: the rest states, whatever the halo holds (a dormant
       ! block's flow halo is not kept current, m_halo)
       do p = 1, set%nphase

@@ -85,7 +85,9 @@ contains
     end do
     do b = 1, size(blocks)
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
-      call gfm_fill(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work, gf%counts, gf%dormant(b))
+      ! (a block dormant since the step's first stage holds its rest states: no writing again)
+      call gfm_fill(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work, gf%counts, gf%dormant(b), &
+        rested=stage > 1 .and. gf%dormant(b))
       if (cut%on .and. .not. gf%dormant(b)) call cut_scalars(cut, b, blocks(b), ph, stage)
     end do
   end subroutine ghost_fluid_fill
