@@ -12,7 +12,7 @@
 !> run.json. m_rebalance decides and moves the blocks. Knows nothing of physics.
 module m_balance
   use m_kinds, only: wp
-  use m_comm, only: comm_wtime, comm_wait_seconds, comm_rank
+  use m_comm, only: comm_wtime, comm_wait_seconds, comm_rank, comm_size
   implicit none
   private
   public :: balance_t, balance_start, balance_imbalance, balance_loads, balance_weights, &
@@ -41,10 +41,14 @@ module m_balance
     !> held exactly as reals
     integer :: nchecks = 0, nmoves = 0
     real(wp), allocatable :: checks(:, :), moves(:, :)
-    !> a test's handle (regress/unit/test_rebalance): rank 0's block work is counted this
+    !> a test's handle (regress/unit/test_rebalance): one rank's block work is counted this
     !> many times over (environment SABRE_BALANCE_SKEW; 1 otherwise), so that a scene whose
-    !> real imbalance is noise still migrates, and migration itself can be tested
+    !> real imbalance is noise still migrates, and migration itself can be tested. The rank
+    !> it falls on turns with the checks (rank mod(checks so far, ranks)): a partition that
+    !> has absorbed one rank's skew meets it on the next rank at the next check, so every
+    !> check sees a heavy rank, not only the first
     real(wp) :: skew = 1.0_wp
+    real(wp) :: skew_now = 1.0_wp       !< the skew on this rank since the last check
   end type balance_t
 
 contains
@@ -58,8 +62,10 @@ contains
     if (.not. allocated(bal%checks)) then
       allocate(bal%checks(6, 16), bal%moves(5, 16))
       call get_environment_variable('SABRE_BALANCE_SKEW', env)
-      if (len_trim(env) > 0 .and. comm_rank() == 0) read(env, *) bal%skew
+      if (len_trim(env) > 0) read(env, *) bal%skew
     end if
+    bal%skew_now = 1.0_wp
+    if (comm_rank() == mod(bal%nchecks, comm_size())) bal%skew_now = bal%skew
     if (allocated(bal%cost)) deallocate(bal%cost, bal%wall)
     allocate(bal%cost(nlocal), bal%wall(nlocal))
     bal%cost = 0.0_wp
@@ -92,7 +98,7 @@ contains
     real(wp), intent(in) :: t0(2)
     real(wp) :: t(2)
     t = balance_now()
-    bal%cost(b) = bal%cost(b) + bal%skew * (t(1) - t0(1))
+    bal%cost(b) = bal%cost(b) + bal%skew_now * (t(1) - t0(1))
     bal%wall(b) = bal%wall(b) + (t(2) - t0(2))
   end subroutine balance_add
 
