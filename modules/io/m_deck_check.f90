@@ -1,15 +1,9 @@
-!> Resolving and checking a deck once it is read (DESIGN section 6). Resolving: material
-!> names against the material library (built-in materials that the base material or a body
-!> uses are added), block sizes left at 0, body density and pressure from the body's
-!> material, the output fields from a standard list, a material's strength_model ('none'),
-!> taylor_quinney (0.9) and eps_rate0 (1 /s) where its model uses them, and the &physics
-!> switches strength and thermal, when left out, on exactly when a material in use needs
-!> them (manual/materials.md). Checking: the rules, one line each,
-!>   call rule(<prohibited condition>, '<group> <variable>', '<reason>'),
-!> in a fixed order, so that the errors always come in that order; checks that would only
-!> repeat an error already found (the values an unknown eos needs, the cells of an unknown
-!> ndim) are left out. A keyword's choices and the form of every value were checked when it
-!> was read (m_deck). It does not interpret the physics (eos/, strength/, scene/).
+!> Resolving and checking a deck once it is read (DESIGN section 6). Resolving: materials
+!> from the library where used, block sizes, a body's rho and p from its material, the output
+!> fields, a model's defaults, the &physics switches left out (manual/materials.md).
+!> Checking: rules of one line each, `call rule(<prohibited>, '<group> <variable>', '<why>')`,
+!> in a fixed order; a check that would only repeat an error already found is left out.
+!> Choices and the form of each value were checked when it was read (m_deck).
 module m_deck_check
   use m_kinds, only: wp, name_len
   use m_config, only: config_t, material_t, body_t, is_set, max_materials, material_index
@@ -29,14 +23,11 @@ module m_deck_check
   public :: deck_check
 
   character(len=*), parameter :: gas_eoses = 'ideal_gas, stiffened_gas'
-  !> the models with plastic flow, hence plastic work for Taylor-Quinney heating
+  !> the models with plastic work, which heats (Taylor-Quinney)
   character(len=*), parameter :: plastic_models = 'perfectly_plastic, linear_hardening, ' &
     // 'johnson_cook, viscoplastic_power_law'
-  !> the output fields (what each eos and strength model needs is listed beside its name,
-  !> eos_needs of m_eos, strength_model_needs of m_yield)
   character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach, phase, ' &
     // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq, lambda'
-  !> the fields of strength only (deviatoric stress, plastic strain, von Mises stress)
   character(len=*), parameter :: strength_fields = 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
   !> the standard output fields; T, eps_p and seq only where they apply (deck_check)
   character(len=5), parameter :: default_fields(9) = [character(len=5) :: 'rho', 'u', 'v', &
@@ -336,35 +327,36 @@ contains
       end do
     end subroutine check_gas_needs
 
-    !> The &physics switches strength and thermal. Left out, each is on exactly when a
-    !> material in use needs it: strength when one has a strength_model other than 'none';
-    !> thermal, with strength on, when one softens with temperature (johnson_cook) or heats
-    !> by plastic work (a plastic model with taylor_quinney > 0). Set to .false., the effect
-    !> is off; set to .true., some material in use must need it. Stress and plastic-strain
-    !> output fields need strength on.
+    !> The &physics switches. Left out, each is on exactly when a material in use needs it:
+    !> strength, a strength_model other than 'none'; thermal, with strength on, softening
+    !> with temperature (johnson_cook) or plastic heating (taylor_quinney > 0); heat_conduction,
+    !> a conductivity; reaction, a reaction. Set to .true., some material in use must need it.
+    !> Not conduction or reaction with the cut-cell update, whose content would not take their
+    !> sources (not built); the fields of strength and reaction need them on.
     subroutine check_physics()
-      logical :: used(cfg%n_materials), needs_strength, needs_thermal
+      logical :: used(cfg%n_materials)
       integer :: k
       associate(m => cfg%materials(1:cfg%n_materials))
         used = [(material_used(m(k)%name), k = 1, size(m))]
-        needs_strength = any(used .and. m%strength_model /= 'none')
-        needs_thermal = any(used .and. (m%strength_model == 'johnson_cook' .or. &
-          (in_list(m%strength_model, plastic_models) .and. m%taylor_quinney > 0.0_wp)))
+        call switch('strength', cfg%strength, any(used .and. m%strength_model /= 'none'), &
+          "has a strength_model other than 'none' (leave strength out: it is on exactly " &
+          // 'when a material needs it)')
+        call rule(cfg%thermal .and. .not. cfg%strength, 'physics thermal', '.true. but strength ' &
+          // 'is off, so there is neither plastic heating nor thermal softening (leave thermal ' &
+          // 'out)')
+        call switch('thermal', cfg%thermal, cfg%strength .and. any(used .and. &
+          (m%strength_model == 'johnson_cook' .or. (in_list(m%strength_model, plastic_models) &
+          .and. m%taylor_quinney > 0.0_wp))), 'softens with temperature (johnson_cook) or heats ' &
+          // 'by plastic work (taylor_quinney > 0) (leave thermal out: it is on exactly when a ' &
+          // 'material needs it)')
+        call switch('heat_conduction', cfg%heat_conduction, any(used .and. &
+          is_set(m%conductivity)), 'has a conductivity (HMX: 0.4 W/(m K))')
+        call switch('reaction', cfg%reaction, any(used .and. m%reaction /= 'none' .and. &
+          m%reaction /= ''), "has a reaction (HMX: reaction = 'henson', reaction_q = 5.5e6)")
       end associate
-      if (.not. given('physics', 'strength')) cfg%strength = needs_strength
-      call rule(cfg%strength .and. .not. needs_strength, 'physics strength', '.true. but no ' &
-        // "material in use has a strength_model other than 'none' (leave strength out: it " &
-        // 'is on exactly when a material needs it)')
-      needs_thermal = needs_thermal .and. cfg%strength
-      if (.not. given('physics', 'thermal')) cfg%thermal = needs_thermal
-      call rule(cfg%thermal .and. .not. cfg%strength, 'physics thermal', '.true. but strength ' &
-        // 'is off, so there is neither plastic heating nor thermal softening (leave thermal ' &
-        // 'out)')
-      call rule(cfg%thermal .and. .not. needs_thermal, 'physics thermal', '.true. but no ' &
-        // 'material in use softens with temperature (johnson_cook) or heats by plastic ' &
-        // 'work (taylor_quinney > 0) (leave thermal out: it is on exactly when a material ' &
-        // 'needs it)')
-      call check_heat_physics()
+      call rule((cfg%heat_conduction .or. cfg%reaction) .and. cfg%conserve == 'cut_cell', &
+        'numerics conserve', "'cut_cell' with heat conduction or reaction is not built (the " &
+        // "cut cells' content does not take their sources; use 'mass_energy')")
       do k = 1, cfg%n_fields
         call rule(.not. cfg%reaction .and. cfg%fields(k) == 'lambda', 'output fields', &
           "field 'lambda' needs reaction, which is off (no material in use has a reaction)")
@@ -374,27 +366,15 @@ contains
       end do
     end subroutine check_physics
 
-    !> The &physics switches heat_conduction and reaction: left out, on exactly when a
-    !> material in use has a conductivity, or a reaction; .true. only when one does. Not with
-    !> the cut-cell update, whose content would not take their sources (not built).
-    subroutine check_heat_physics()
-      logical :: used(cfg%n_materials), needs_conduction, needs_reaction
-      integer :: k
-      associate(m => cfg%materials(1:cfg%n_materials))
-        used = [(material_used(m(k)%name), k = 1, size(m))]
-        needs_conduction = any(used .and. is_set(m%conductivity))
-        needs_reaction = any(used .and. m%reaction /= 'none' .and. m%reaction /= '')
-      end associate
-      if (.not. given('physics', 'heat_conduction')) cfg%heat_conduction = needs_conduction
-      if (.not. given('physics', 'reaction')) cfg%reaction = needs_reaction
-      call rule(cfg%heat_conduction .and. .not. needs_conduction, 'physics heat_conduction', &
-        '.true. but no material in use has a conductivity (HMX: 0.4 W/(m K))')
-      call rule(cfg%reaction .and. .not. needs_reaction, 'physics reaction', '.true. but no ' &
-        // "material in use has a reaction (HMX: reaction = 'henson', reaction_q = 5.5e6)")
-      call rule((cfg%heat_conduction .or. cfg%reaction) .and. cfg%conserve == 'cut_cell', &
-        'numerics conserve', "'cut_cell' with heat conduction or reaction is not built (the " &
-        // "cut cells' content does not take their sources; use 'mass_energy')")
-    end subroutine check_heat_physics
+    !> A switch left out is on exactly when needed; given .true., it must be needed.
+    subroutine switch(name, on, needed, why)
+      character(len=*), intent(in) :: name, why
+      logical, intent(inout) :: on
+      logical, intent(in) :: needed
+      if (.not. given('physics', name)) on = needed
+      call rule(on .and. .not. needed, 'physics ' // name, '.true. but no material in use ' &
+        // why)
+    end subroutine switch
 
     !> Whether the base material or a body uses the material called name.
     logical function material_used(name)
