@@ -180,15 +180,9 @@ contains
           if (beyond_side([di, dj, dk])) cycle
           lo = merge(1 - g, merge(1, n + 1, [di, dj, dk] == 0), [di, dj, dk] < 0)
           hi = merge(0 * g, merge(n, n + g, [di, dj, dk] == 0), [di, dj, dk] < 0)
-          do m = m1, nvar
-            do k = lo(3), hi(3)
-              do j = lo(2), hi(2)
-                do i = lo(1), hi(1)
-                  blk%q(i, j, k, m) = blk%q(min(max(i, 1), n(1)), min(max(j, 1), n(2)), &
-                    min(max(k, 1), n(3)), m)
-                end do
-              end do
-            end do
+          do concurrent (m = m1:nvar, k = lo(3):hi(3), j = lo(2):hi(2), i = lo(1):hi(1))
+            blk%q(i, j, k, m) = blk%q(min(max(i, 1), n(1)), min(max(j, 1), n(2)), &
+              min(max(k, 1), n(3)), m)
           end do
         end do
       end do

@@ -1,12 +1,9 @@
-!> The input deck (DESIGN section 6). deck_read reads a namelist deck plus command-line
-!> overrides into a config_t, resolved and checked, all its errors in one run (m_deck_schema
-!> gathers them); every rank parses the same text (read by rank 0, broadcast), so every rank
-!> finds the same errors. The text is split by m_deck_parse; each assignment is found in the
-!> table of m_deck_schema, checked for form, count and index and read into the component its
-!> line points at (repeated &material and &body groups start from defaults); m_deck_check
-!> resolves and checks the whole. deck_write_resolved writes every value of the table,
-!> defaults filled in, so that deck_read of it gives back the same configuration bit for bit
-!> (m_output's output_prepare puts it in out_dir). No physics (eos/, scene/).
+!> The input deck (DESIGN section 6). deck_read reads a namelist deck (read by rank 0,
+!> parsed by every rank) plus command-line overrides into a config_t: each assignment is
+!> found in m_deck_schema's table and read into the component its line points at (a repeated
+!> &material or &body starts from defaults); m_deck_check resolves and checks the whole.
+!> deck_write_resolved writes every value of the table, defaults filled in, so that reading
+!> it back gives the same configuration bit for bit. No physics (eos/, scene/).
 module m_deck
   use m_kinds, only: line_len
   use m_config, only: config_t, max_materials, max_bodies

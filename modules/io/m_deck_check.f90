@@ -233,19 +233,8 @@ contains
         'needs t_melt, the melt temperature at rho0 (HMX: 550 K)' // in_m)
       ! vp_m < 1 (its line): the flow stress then grows with the rate, the return has one root
       call check_allowed(vars(ks + 1:), in_m)
-      call check_heat(m, in_m)
-      ! the strength modules' own test of the parameters, should it know more than the above
-      if (deck_error_count() > n_start .or. ke == 0 .or. km == 0) return
-      why = strength_problem(strength_from_material(m))
-      call rule(len_trim(why) > 0, 'material strength_model', trim(why) // in_m)
-
-    end subroutine check_material
-
-    !> One material's conduction and reaction (m_conduction, m_reaction): both act on the
-    !> temperature, so they need cv; a reaction needs its heat, and a heat needs a reaction.
-    subroutine check_heat(m, in_m)
-      type(material_t), intent(inout) :: m
-      character(len=*), intent(in) :: in_m
+      ! conduction and reaction act on the temperature; a reaction needs its heat, and a
+      ! heat needs a reaction
       if (len_trim(m%reaction) == 0) m%reaction = 'none'
       call rule(m%reaction /= 'none' .and. .not. is_set(m%reaction_q), 'material reaction_q', &
         "missing required value (reaction '" // trim(m%reaction) // "' releases it)" // in_m)
@@ -254,7 +243,11 @@ contains
       call rule((m%reaction /= 'none' .or. is_set(m%conductivity)) .and. .not. is_set(m%cv), &
         'material cv', 'missing required value (conduction and reaction need the ' &
         // 'temperature)' // in_m)
-    end subroutine check_heat
+      ! the strength modules' own test of the parameters, should it know more than the above
+      if (deck_error_count() > n_start .or. ke == 0 .or. km == 0) return
+      why = strength_problem(strength_from_material(m))
+      call rule(len_trim(why) > 0, 'material strength_model', trim(why) // in_m)
+    end subroutine check_material
 
     !> A material that the deck uses by name: defined, built in (then added), or one of the
     !> special names allowed at that place.

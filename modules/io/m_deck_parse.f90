@@ -1,27 +1,22 @@
 !> The lexical layer of deck reading (DESIGN section 6), by hand rather than by a namelist
-!> READ so that every complaint can name the group, the variable and the line. One tokenizer
-!> turns text into tokens with their lines; deck_split makes of them groups (`&name ... /`)
-!> of assignments `name[(index)] = value-text` (a syntax error comes back with its line);
-!> assign_value checks a value text for a table line (deck_var_t) — index, count (r*c
-!> repeats included), the form of each constant (gfortran's own reader takes `3` for a
-!> string, `1` for a logical and `1e999` for a real, which then traps) — and reads it into
-!> the component, list-directed as a namelist would; value_text writes it back. It knows no
-!> table and never stops the run: it returns reasons.
+!> READ so that every complaint can name the group, the variable and the line: deck_split
+!> makes groups of assignments `name[(index)] = value-text`; assign_value checks a value
+!> for a table line (deck_var_t) and reads it list-directed, as a namelist would, after
+!> checking each constant's form (gfortran's reader takes `3` for a string, `1` for a
+!> logical, and traps on `1e999`); value_text writes it back. It returns reasons, never stops.
 module m_deck_parse
   use m_kinds, only: wp, name_len, line_len
   use m_config, only: is_set
-  use m_text, only: int_text, to_lower, real_text, quoted
+  use m_text, only: int_text, to_lower, real_text, quoted, replaced
   implicit none
   private
   public :: deck_var_t, deck_group_t, deck_assign_t
   public :: deck_split, first_group, assign_value, value_text
 
-  !> One table line: group and name; kind 'r' real, 'i' integer, 'l' logical, 'c' string or
-  !> 'k' keyword (a string lower-cased when read, one of `choices`, or empty when
-  !> `empty_ok`); size (1 for a scalar), the length of a string, a typical value for the
-  !> messages, the meaning, the values allowed (m_deck_check); the component (one pointer
-  !> associated, by type and rank) and, for a list written only as far as it is used, the
-  !> count of its entries.
+  !> One table line (m_deck_schema's deck_table): kind 'r' real, 'i' integer, 'l' logical,
+  !> 'c' string or 'k' keyword (lower-cased, one of `choices`, or empty when `empty_ok`);
+  !> the component as the one pointer associated, and for a list written only as far as it
+  !> is used, the count of its entries.
   type :: deck_var_t
     character(len=8) :: group = ''
     character(len=24) :: name = ''
@@ -136,9 +131,9 @@ contains
     allocate(groups(0), assigns(0))
     err_group = ''
     err_what = ''
-    s = blanked(text, achar(9) // achar(13))
+    s = replaced(replaced(text, achar(9), ' '), achar(13), ' ')
     call tokenize(s, t)
-    s = blanked(s, nl)
+    s = replaced(s, nl, ' ')
     n = size(t)
     t = [t, token_t('&', 0, len(s) + 1, len(s))]   ! a guard: the end of the text
     k = 1
@@ -173,7 +168,7 @@ contains
               return
             end if
             name = to_lower(word(nk))
-            subscript = compact(word(nk + 1))
+            subscript = replaced(word(nk + 1), ' ', '')
             if (assign_length(nk) == 2) subscript = ''
             assigns = [assigns, deck_assign_t(size(groups), t(nk)%line, name, subscript, &
               s(t(v0)%first:t(last)%last))]
@@ -250,25 +245,6 @@ contains
     is_name = verify(w(1:1), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ') == 0 &
       .and. verify(w, 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_') == 0
   end function is_name
-
-  !> t with each of chars as a blank
-  pure function blanked(t, chars) result(r)
-    character(len=*), intent(in) :: t, chars
-    character(len=len(t)) :: r
-    integer :: i
-    r = t
-    do i = 1, len(t)
-      if (index(chars, t(i:i)) > 0) r(i:i) = ' '
-    end do
-  end function blanked
-
-  !> The text without blanks (index texts such as `( 2 : 3 )`).
-  pure recursive function compact(t) result(r)
-    character(len=*), intent(in) :: t
-    character(len=:), allocatable :: r
-    r = t
-    if (index(t, ' ') > 0) r = compact(t(:index(t, ' ') - 1) // t(index(t, ' ') + 1:))
-  end function compact
 
   !> Assign `value` to the elements `subscript` of v's component, or say why it cannot be
   !> ('' when it was). The whole text is checked before anything is read; then it is read

@@ -1,15 +1,9 @@
 !> What a deck may hold (DESIGN section 6): the one table of deck variables, a line each
-!> (deck_table), and the one-line error that names them,
-!>   ERROR <deck file> &<group> <variable>: <reason> (typical value <example>).
-!> A table line binds group and name to the config_t component (type, size and default
-!> come from the component, m_config), gives a typical value, the meaning and, for a
-!> keyword, its choices (the list its owner module exports, which that module's from_name
-!> maps). The reader, the resolved-deck writer and the checks' lookups all go through it.
-!> A deck's errors are gathered in one pass: fail() records a line and returns, so that the
-!> reading and the checks go on; deck_errors_stop() prints every line and stops every rank
-!> (every rank parses the same text, so every rank holds the same lines). A variable that
-!> has had an error gets no second one. fail_now() is for an error after which nothing more
-!> can be read. The list is module state, emptied by deck_errors_begin().
+!> (deck_table), through which the reader, the resolved-deck writer and the checks go; and
+!> the errors, `ERROR <deck file> &<group> <variable>: <reason> (typical value <example>)`,
+!> gathered in one pass so that a run reports them all: fail() records one (a variable gets
+!> no second) and returns, deck_errors_stop() prints them and stops every rank (each rank
+!> parses the same text and holds the same list), fail_now() when nothing more can be read.
 module m_deck_schema
   use m_kinds, only: wp
   use m_config, only: config_t, material_t, body_t
@@ -229,8 +223,7 @@ contains
     allocate(vars, source=t%v(1:t%n))
   end subroutine deck_table
 
-  !> The lines of group gname (every line for ''), bound to a configuration kept for the
-  !> purpose.
+  !> The lines of group gname (every line for ''), bound to a configuration kept for it.
   function group_table(gname) result(vars)
     character(len=*), intent(in) :: gname
     type(deck_var_t), allocatable :: vars(:)

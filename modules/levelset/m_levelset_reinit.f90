@@ -148,7 +148,7 @@ contains
     real(wp), intent(out) :: rhs(n(1), n(2), n(3))
     real(wp), allocatable :: dm(:, :, :), dp(:, :, :), gpos(:, :, :), gneg(:, :, :)
     real(wp), parameter :: tiny_grad = 1.0e-30_wp
-    real(wp) :: h, s, c, pm, pp, p, gc2, gs2, delta, a, b
+    real(wp) :: h, s, c, pm, pp, p, gc2, gs2, delta
     integer :: d, i, j, k, e(3)
     logical :: near
     allocate(dm(n(1), n(2), n(3)), dp(n(1), n(2), n(3)))
@@ -158,18 +158,10 @@ contains
     gneg = 0.0_wp
     do d = 1, ndim
       call levelset_one_sided(scheme, d, n, g, dx, phi, dm, dp)
-      do k = 1, n(3)
-        do j = 1, n(2)
-          do i = 1, n(1)
-            a = dm(i, j, k)
-            b = dp(i, j, k)
-            ! Godunov: for S > 0 the characteristic leaves the interface, so take the
-            ! backward slope where it rises and the forward slope where it falls
-            gpos(i, j, k) = gpos(i, j, k) + max(max(a, 0.0_wp)**2, min(b, 0.0_wp)**2)
-            gneg(i, j, k) = gneg(i, j, k) + max(min(a, 0.0_wp)**2, max(b, 0.0_wp)**2)
-          end do
-        end do
-      end do
+      ! Godunov: for S > 0 the characteristic leaves the interface, so take the backward
+      ! slope where it rises and the forward slope where it falls
+      gpos = gpos + max(max(dm, 0.0_wp)**2, min(dp, 0.0_wp)**2)
+      gneg = gneg + max(min(dm, 0.0_wp)**2, max(dp, 0.0_wp)**2)
     end do
     do k = 1, n(3)
       do j = 1, n(2)
