@@ -32,10 +32,10 @@ module m_gfm_cut
   use m_euler, only: cut_faces_t
   use m_runge_kutta, only: rk_blend
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void
-  use m_levelset_cut, only: levelset_cut
   use m_eos, only: eos_pressure, eos_sound_speed2
   use m_gfm_cut_cells, only: full, full_density, group_roots, ring, on_open
   use m_gfm_cut_close, only: relax_closing
+  use m_gfm_cut_geometry, only: cut_geometry_work_t, cut_block_geometry
   implicit none
   private
   public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update, cut_content
@@ -73,6 +73,7 @@ module m_gfm_cut
     real(wp) :: closing(2) = 0.0_wp               !< closing cells (cell-steps), their heat
     real(wp) :: held = 0.0_wp                     !< drained full cells given a cut cell's
                                                   !< density (cell-stages)
+    type(cut_geometry_work_t) :: geo              !< scratch of the geometry (any block)
   end type cut_t
 
 contains
@@ -131,68 +132,9 @@ contains
     type(block_t), intent(in) :: blk
     real(wp), intent(in) :: bigphi(:, :, :)
     logical, intent(in) :: open_side(2, 3)   !< the domain's outflow sides
-    real(wp), allocatable, intent(out) :: alpha_e(:, :, :)
-    real(wp), allocatable :: ax(:, :, :), ay(:, :, :), az(:, :, :), area(:, :, :)
-    real(wp), allocatable :: normal(:, :, :, :), plane(:, :, :), phi(:, :, :)
-    integer :: e(3), n(3), ne(3), g1(3), d, l, c
-    real(wp) :: r0
-    associate (lay => blk%lay)
-      n = blk%n
-      e = max(lay%ng - 1, 0)
-      ! beyond an outflow side the level set continues linearly (the halo holds a copy of
-      ! the edge cell): the side's faces then get the apertures the surface really has there
-      phi = bigphi
-      do d = 1, lay%ndim
-        if (open_side(1, d) .and. blk%offset(d) == 0) then
-          c = lay%ng(d) + 1
-          do l = 1, lay%ng(d)
-            call extend(d, c - l, c, c + 1, real(l, wp))
-          end do
-        end if
-        if (open_side(2, d) .and. blk%offset(d) + n(d) == lay%cells(d)) then
-          c = lay%ng(d) + n(d)
-          do l = 1, lay%ng(d)
-            call extend(d, c + l, c, c - 1, real(l, wp))
-          end do
-        end if
-      end do
-      ne = n + 2 * e
-      g1 = merge(1, 0, lay%ng > 0)
-      allocate(alpha_e(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
-      allocate(ax(-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
-      allocate(ay(1-e(1):n(1)+e(1), -e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
-      allocate(az(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), -e(3):n(3)+e(3)))
-      allocate(area, plane, mold=alpha_e)
-      allocate(normal(ne(1), ne(2), ne(3), 3))
-      r0 = lay%lo(1) + real(blk%offset(1) - e(1), wp) * lay%dx(1)
-      call levelset_cut(lay%ndim, lay%axisymmetric, ne, g1, lay%dx, r0, phi, ax, ay, az, &
-        alpha_e, area, normal, plane)
-      associate (f => cut%faces(b))
-        f%ax = ax(0:n(1), 1:n(2), 1:n(3))
-        f%ay = ay(1:n(1), 0:n(2), 1:n(3))
-        f%az = az(1:n(1), 1:n(2), 0:n(3))
-        f%alpha = alpha_e(1:n(1), 1:n(2), 1:n(3))
-        f%plane = plane(1:n(1), 1:n(2), 1:n(3))
-        f%partial = alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) > 0.0_wp &
-          .and. alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) < full
-      end associate
-    end associate
-
-  contains
-
-    !> layer `to` (an index of phi along d) = edge + l (edge - inner), the whole layer
-    subroutine extend(dd, to, edge, inner, l)
-      integer, intent(in) :: dd, to, edge, inner
-      real(wp), intent(in) :: l
-      select case (dd)
-      case (1)
-        phi(to, :, :) = phi(edge, :, :) + l * (phi(edge, :, :) - phi(inner, :, :))
-      case (2)
-        phi(:, to, :) = phi(:, edge, :) + l * (phi(:, edge, :) - phi(:, inner, :))
-      case default
-        phi(:, :, to) = phi(:, :, edge) + l * (phi(:, :, edge) - phi(:, :, inner))
-      end select
-    end subroutine extend
+    real(wp), allocatable, intent(inout) :: alpha_e(:, :, :)
+    call cut_block_geometry(cut%geo, blk%lay, blk%offset, blk%n, bigphi, open_side, &
+      cut%faces(b), alpha_e)
   end subroutine cut_geometry
 
   !> Content into states on block blk (number b), after the halo exchange: q's phase
