@@ -9,6 +9,7 @@ module m_gfm_cut_cells
   use m_blocks, only: block_t
   use m_phases, only: phases_t
   use m_state, only: i_rho
+  use m_gfm_cut_work, only: fit_work
   implicit none
   private
   public :: full, full_density, group_roots, ring, on_open, in_domain, largest_neighbour
@@ -69,11 +70,11 @@ contains
     integer, intent(in) :: offset(3), n(3), e(3)
     real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
     real(wp), intent(in) :: small
-    integer, allocatable, intent(out) :: root(:, :, :, :)
+    integer, allocatable, intent(inout) :: root(:, :, :, :)   !< (kept from call to call)
     integer :: w(3), i, j, k, best(3)
     w = min(e, 2)
     ! one more layer than w, so that a neighbour's root can be looked at
-    allocate(root(3, -w(1):n(1)+w(1)+1, -w(2):n(2)+w(2)+1, -w(3):n(3)+w(3)+1))
+    call fit_work(root, [1, -w(1), -w(2), -w(3)], [3, n(1)+w(1)+1, n(2)+w(2)+1, n(3)+w(3)+1])
     root = 0
     do k = 1 - w(3), n(3) + w(3)
       do j = 1 - w(2), n(2) + w(2)

@@ -3,39 +3,20 @@
 !> the padded block, the interior faces' apertures and the fractions (m_levelset_cut), the
 !> fractions also into the halo less its outer layer (for the mixing of m_gfm_cut). The
 !> level set moves at every stage (it is advanced with the state), so the geometry is made
-!> at every stage; its work arrays are kept from block to block and stage to stage
-!> (cut_geometry_work_t, refitted only when a block of another shape comes) instead of being
-!> allocated, faulted in and filled afresh each time. What the stage does with the geometry
-!> is m_gfm_cut's.
+!> at every stage; its scratch is kept from block to block and stage to stage (m_gfm_cut_work).
+!> What the stage does with the geometry is m_gfm_cut's.
 module m_gfm_cut_geometry
   use m_kinds, only: wp
   use m_layout, only: layout_t
   use m_euler, only: cut_faces_t
   use m_levelset_cut, only: levelset_cut
   use m_gfm_cut_cells, only: full
+  use m_gfm_cut_work, only: cut_work_t, fit_work
   implicit none
   private
-  public :: cut_geometry_work_t, cut_block_geometry, fit_work
-
-  !> Scratch of one block's geometry over the padded block less its outer layer.
-  type :: cut_geometry_work_t
-    real(wp), allocatable :: phi(:, :, :)         !< the level set, continued past open sides
-    real(wp), allocatable :: ax(:, :, :), ay(:, :, :), az(:, :, :)   !< apertures
-    real(wp), allocatable :: plane(:, :, :)       !< planar fractions
-  end type cut_geometry_work_t
+  public :: cut_block_geometry
 
 contains
-
-  !> Array a (re)allocated with bounds lo:hi when it does not have them (contents undefined).
-  subroutine fit_work(a, lo, hi)
-    real(wp), allocatable, intent(inout) :: a(:, :, :)
-    integer, intent(in) :: lo(3), hi(3)
-    if (allocated(a)) then
-      if (all(lbound(a) == lo) .and. all(ubound(a) == hi)) return
-      deallocate(a)
-    end if
-    allocate(a(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
-  end subroutine fit_work
 
   !> The geometry of a block with n interior cells at offset in the grid lay, from the
   !> phase's level set bigphi over the padded block: the interior faces' apertures,
@@ -44,7 +25,7 @@ contains
   !> set continues linearly (the halo holds a copy of the edge cell), so that the side's
   !> faces get the apertures the surface really has there.
   subroutine cut_block_geometry(work, lay, offset, n, bigphi, open_side, f, alpha_e)
-    type(cut_geometry_work_t), intent(inout) :: work
+    type(cut_work_t), intent(inout) :: work
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: offset(3), n(3)
     real(wp), intent(in) :: bigphi(:, :, :)
