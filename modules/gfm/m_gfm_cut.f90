@@ -449,20 +449,43 @@ contains
     type(phases_t), intent(in) :: ph
     real(wp), intent(in) :: dt
     real(wp) :: a
-    integer :: lo, n(3)
+    integer :: lo, n(3), m
     lo = ph%lo(cut%p)
     n = blk%n
-    associate (c => cut%c(1:n(1), 1:n(2), 1:n(3), :, b), &
-        c0 => cut%c0(1:n(1), 1:n(2), 1:n(3), :, b), r => blk%rhs(:, :, :, lo:lo + ph%nflow - 1))
-      if (stage == 1) then
-        c = c0 + dt * r
-      else
-        a = rk_blend(stage, order)
-        c = a * c0 + (1.0_wp - a) * (c + dt * r)
-      end if
-      blk%q(1:n(1), 1:n(2), 1:n(3), lo:lo + ph%nflow - 1) = c
-    end associate
+    a = 0.0_wp
+    if (stage > 1) a = rk_blend(stage, order)
+    ! (variable by variable, the content and q's copy of it in one pass)
+    do m = 1, ph%nflow
+      call stage_content(stage == 1, a, dt, cut%c0(1:n(1), 1:n(2), 1:n(3), m, b), &
+        blk%rhs(:, :, :, lo + m - 1), cut%c(1:n(1), 1:n(2), 1:n(3), m, b), &
+        blk%q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
+    end do
   end subroutine cut_update
+
+  !> One variable's content c after a stage from the step start's c0 and the rate r (first:
+  !> the first stage, c0 + dt r; else a c0 + (1 - a) (c + dt r)), and its copy u.
+  subroutine stage_content(first, a, dt, c0, r, c, u)
+    logical, intent(in) :: first
+    real(wp), intent(in) :: a, dt, c0(:, :, :), r(:, :, :)
+    real(wp), intent(inout) :: c(:, :, :)
+    real(wp), intent(out) :: u(:, :, :)
+    integer :: i, j, k
+    do k = 1, size(c, 3)
+      do j = 1, size(c, 2)
+        if (first) then
+          do i = 1, size(c, 1)
+            c(i, j, k) = c0(i, j, k) + dt * r(i, j, k)
+            u(i, j, k) = c(i, j, k)
+          end do
+        else
+          do i = 1, size(c, 1)
+            c(i, j, k) = a * c0(i, j, k) + (1.0_wp - a) * (c(i, j, k) + dt * r(i, j, k))
+            u(i, j, k) = c(i, j, k)
+          end do
+        end if
+      end do
+    end do
+  end subroutine stage_content
 
   !> After the ghost fill of block blk (number b) at stage `stage`: a wet cell whose centre
   !> lies outside the surface holds a ghost state for the stencils, but its transported
