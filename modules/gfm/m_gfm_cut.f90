@@ -32,10 +32,11 @@ module m_gfm_cut
   use m_euler, only: cut_faces_t
   use m_runge_kutta, only: rk_blend
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void
-  use m_levelset_cut, only: levelset_cut
   use m_eos, only: eos_pressure, eos_sound_speed2
   use m_gfm_cut_cells, only: full, full_density, group_roots, ring, on_open
   use m_gfm_cut_close, only: relax_closing
+  use m_gfm_cut_geometry, only: cut_block_geometry
+  use m_gfm_cut_work, only: cut_work_t, fit_work
   implicit none
   private
   public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update, cut_content
@@ -73,6 +74,7 @@ module m_gfm_cut
     real(wp) :: closing(2) = 0.0_wp               !< closing cells (cell-steps), their heat
     real(wp) :: held = 0.0_wp                     !< drained full cells given a cut cell's
                                                   !< density (cell-stages)
+    type(cut_work_t) :: work                      !< scratch of the stage's passes (any block)
   end type cut_t
 
 contains
@@ -131,68 +133,9 @@ contains
     type(block_t), intent(in) :: blk
     real(wp), intent(in) :: bigphi(:, :, :)
     logical, intent(in) :: open_side(2, 3)   !< the domain's outflow sides
-    real(wp), allocatable, intent(out) :: alpha_e(:, :, :)
-    real(wp), allocatable :: ax(:, :, :), ay(:, :, :), az(:, :, :), area(:, :, :)
-    real(wp), allocatable :: normal(:, :, :, :), plane(:, :, :), phi(:, :, :)
-    integer :: e(3), n(3), ne(3), g1(3), d, l, c
-    real(wp) :: r0
-    associate (lay => blk%lay)
-      n = blk%n
-      e = max(lay%ng - 1, 0)
-      ! beyond an outflow side the level set continues linearly (the halo holds a copy of
-      ! the edge cell): the side's faces then get the apertures the surface really has there
-      phi = bigphi
-      do d = 1, lay%ndim
-        if (open_side(1, d) .and. blk%offset(d) == 0) then
-          c = lay%ng(d) + 1
-          do l = 1, lay%ng(d)
-            call extend(d, c - l, c, c + 1, real(l, wp))
-          end do
-        end if
-        if (open_side(2, d) .and. blk%offset(d) + n(d) == lay%cells(d)) then
-          c = lay%ng(d) + n(d)
-          do l = 1, lay%ng(d)
-            call extend(d, c + l, c, c - 1, real(l, wp))
-          end do
-        end if
-      end do
-      ne = n + 2 * e
-      g1 = merge(1, 0, lay%ng > 0)
-      allocate(alpha_e(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
-      allocate(ax(-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
-      allocate(ay(1-e(1):n(1)+e(1), -e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
-      allocate(az(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), -e(3):n(3)+e(3)))
-      allocate(area, plane, mold=alpha_e)
-      allocate(normal(ne(1), ne(2), ne(3), 3))
-      r0 = lay%lo(1) + real(blk%offset(1) - e(1), wp) * lay%dx(1)
-      call levelset_cut(lay%ndim, lay%axisymmetric, ne, g1, lay%dx, r0, phi, ax, ay, az, &
-        alpha_e, area, normal, plane)
-      associate (f => cut%faces(b))
-        f%ax = ax(0:n(1), 1:n(2), 1:n(3))
-        f%ay = ay(1:n(1), 0:n(2), 1:n(3))
-        f%az = az(1:n(1), 1:n(2), 0:n(3))
-        f%alpha = alpha_e(1:n(1), 1:n(2), 1:n(3))
-        f%plane = plane(1:n(1), 1:n(2), 1:n(3))
-        f%partial = alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) > 0.0_wp &
-          .and. alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) < full
-      end associate
-    end associate
-
-  contains
-
-    !> layer `to` (an index of phi along d) = edge + l (edge - inner), the whole layer
-    subroutine extend(dd, to, edge, inner, l)
-      integer, intent(in) :: dd, to, edge, inner
-      real(wp), intent(in) :: l
-      select case (dd)
-      case (1)
-        phi(to, :, :) = phi(edge, :, :) + l * (phi(edge, :, :) - phi(inner, :, :))
-      case (2)
-        phi(:, to, :) = phi(:, edge, :) + l * (phi(:, edge, :) - phi(:, inner, :))
-      case default
-        phi(:, :, to) = phi(:, :, edge) + l * (phi(:, :, edge) - phi(:, :, inner))
-      end select
-    end subroutine extend
+    real(wp), allocatable, intent(inout) :: alpha_e(:, :, :)
+    call cut_block_geometry(cut%work, blk%lay, blk%offset, blk%n, bigphi, open_side, &
+      cut%faces(b), alpha_e)
   end subroutine cut_geometry
 
   !> Content into states on block blk (number b), after the halo exchange: q's phase
@@ -210,11 +153,12 @@ contains
     logical, intent(inout) :: failed
     real(wp), intent(in) :: bigphi(:, :, :)   !< the phase's level set over the padded block
     integer, intent(in) :: owner(:, :, :)     !< whose surface (ls_region; 0: a void's)
-    integer, allocatable :: root(:, :, :, :)
-    real(wp), allocatable :: vol(:), cq(:, :, :, :), filled(:, :, :), ai(:, :, :)
-    integer, allocatable :: kind(:, :, :)
-    integer :: e(3), n(3), i, j, k, r(3), lo, nf, m
-    real(wp) :: sum_c(ph%nflow), sum_a, cc(ph%nflow), least, tally(2)
+    real(wp), allocatable :: vol(:)
+    integer :: kind(blk%n(1), blk%n(2), blk%n(3))
+    logical :: member(blk%n(1), blk%n(2), blk%n(3))
+    integer :: e(3), n(3), i, j, k, lo, nf, m
+    real(wp) :: cc(ph%nflow), tally(2)
+    logical :: relaxed
     lo = ph%lo(cut%p)
     nf = ph%nflow
     associate (lay => blk%lay, q => blk%q)
@@ -224,73 +168,36 @@ contains
       do i = 1 - e(1), n(1) + e(1)
         vol(i) = cell_volume(lay, blk%offset, i)
       end do
-      ! the content as it came (q's cells turn into states below, while groups still read it)
-      allocate(cq(1-lay%ng(1):n(1)+lay%ng(1), 1-lay%ng(2):n(2)+lay%ng(2), &
-        1-lay%ng(3):n(3)+lay%ng(3), nf))
-      cq = q(:, :, :, lo:lo + nf - 1)
-      ! (the closing cells' tally accumulates onto the block's, cut%out(5:6, b))
+      ! the content as it came is q's phase variables; where cells close, the closing cells'
+      ! exchange puts what it gives in cut%work%relaxed (the closing cells' tally accumulates
+      ! onto the block's, cut%out(5:6, b))
       tally = 0.0_wp
       if (allocated(cut%out)) tally = cut%out(5:6, b)
-      call relax_closing(lay, blk%offset, n, e, alpha_e, bigphi, owner, final, cq, tally)
+      call relax_closing(lay, blk%offset, n, e, alpha_e, bigphi, owner, final, &
+        q(:, :, :, lo:lo + nf - 1), cut%work%relaxed, tally, relaxed)
       if (allocated(cut%out)) cut%out(5:6, b) = tally
-      ! the fractions the groups are formed by: a wet cell whose content fills less of it
-      ! than its fraction says (a surface the level set has moved ahead of the material, as
-      ! where a void closes) counts by its content, at the phase's rest density
-      filled = alpha_e
-      where (alpha_e > 0.0_wp) filled = min(alpha_e, max(cq(1-e(1):n(1)+e(1), &
-        1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3), i_rho), 0.0_wp) / ph%rest(1, cut%p))
-      call group_roots(lay, blk%offset, n, e, filled, cut%small, root)
-      ! the contents: each cell its own, then the cells the rules below change (an empty
-      ! cell, the members of a group, the last of the phase on an open side); by arrays per
-      ! variable for the plain cells, which are most of them
-      do m = 1, nf
-        cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = cq(1:n(1), 1:n(2), 1:n(3), m)
-      end do
-      do k = 1, n(3)
-        do j = 1, n(2)
-          do i = 1, n(1)
-            r = root(:, i, j, k)
-            if (.not. alpha(i, j, k) > 0.0_wp) then
-              ! empty: what content it still holds found no wet neighbour (cut_donate); it
-              ! is taken out (and counted) at the step's end only, where the budget sees it
-              ! once (inside the step a stage's content counts with the stage's weight)
-              if (final) then
-                cut%out(3, b) = cut%out(3, b) + cq(i, j, k, i_rho) * vol(i)
-                cut%out(4, b) = cut%out(4, b) + cq(i, j, k, i_en) * vol(i)
-              end if
-            else if (all(r == [i, j, k]) .and. .not. has_members(r)) then
-              if (final .and. alpha(i, j, k) < cut%small .and. on_open_side([i, j, k])) then
-                ! a small cell alone on an open side: the last of the phase leaving the
-                ! domain; what it holds goes out through the side (counted)
-                cut%out(1, b) = cut%out(1, b) - cq(i, j, k, i_rho) * vol(i)
-                cut%out(2, b) = cut%out(2, b) - cq(i, j, k, i_en) * vol(i)
-                cut%c(i, j, k, 1:nf, b) = 0.0_wp
-              end if
-            else
-              call group_sum(r, sum_c, sum_a, least)
-              if (least > 0.0_wp) then
-                ! every member keeps its mass and takes the group's state per mass
-                cut%c(i, j, k, 1:nf, b) = cq(i, j, k, i_rho) * sum_c / sum_c(i_rho)
-              else
-                ! a member has lost more mass than it held: the group's content shared by
-                ! the members' fractions
-                cut%c(i, j, k, 1:nf, b) = alpha(i, j, k) * sum_c / sum_a
-              end if
-            end if
-          end do
-        end do
-      end do
+      ! the contents (cut%c) from it, read in place: nothing writes q until they are made
+      if (relaxed) then
+        call contents(cut%work%relaxed)
+      else
+        call contents(q(:, :, :, lo:lo + nf - 1))
+      end if
       ! the states: a full cell's its content over its fraction; a cell with no material
       ! (outside, or a wet cell that nothing has reached yet, with no neighbour to share
       ! with) the state it had at the step's start (a ghost or rest state, which the ghost
       ! fill and m_gfm's rest state replace; its content is kept in cut%c); a cut cell's
       ! below
       ! (each cell's kind once: 0 the start's state, 1 full, 2 cut; then variable by variable)
-      allocate(ai(n(1), n(2), n(3)), kind(n(1), n(2), n(3)))
-      ai = alpha_e(1+e(1):n(1)+e(1), 1+e(2):n(2)+e(2), 1+e(3):n(3)+e(3))
-      kind = 0
-      where (ai > 0.0_wp .and. cut%c(1:n(1), 1:n(2), 1:n(3), i_rho, b) > 0.0_wp) kind = 2
-      where (kind == 2 .and. .not. ai < full) kind = 1
+      do k = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
+            kind(i, j, k) = 0
+            if (alpha(i, j, k) > 0.0_wp .and. cut%c(i, j, k, i_rho, b) > 0.0_wp) then
+              kind(i, j, k) = merge(2, 1, alpha(i, j, k) < full)
+            end if
+          end do
+        end do
+      end do
       ! a full cell beside the surface whose content, at its own density, has no real sound
       ! speed (drained below the density the material beside it has: the level set of a
       ! material body drifts ahead of its content, theory.md 7c) takes a cut cell's density,
@@ -309,19 +216,12 @@ contains
       end do
       do m = 1, nf
         if (final) then
-          where (.not. ai > 0.0_wp) cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = 0.0_wp
+          where (.not. alpha_e(1+e(1):n(1)+e(1), 1+e(2):n(2)+e(2), 1+e(3):n(3)+e(3)) > 0.0_wp) &
+            cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = 0.0_wp
         end if
-        do k = 1, n(3)
-          do j = 1, n(2)
-            do i = 1, n(1)
-              if (kind(i, j, k) == 1) then
-                q(i, j, k, lo + m - 1) = cut%c(i, j, k, m, b) / ai(i, j, k)
-              else if (kind(i, j, k) == 0) then
-                q(i, j, k, lo + m - 1) = blk%q0(i, j, k, lo + m - 1)
-              end if
-            end do
-          end do
-        end do
+        call put_states(kind, alpha_e(1+e(1):n(1)+e(1), 1+e(2):n(2)+e(2), 1+e(3):n(3)+e(3)), &
+          cut%c(1:n(1), 1:n(2), 1:n(3), m, b), blk%q0(:, :, :, lo + m - 1), &
+          q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
       end do
       do k = 1, n(3)
         do j = 1, n(2)
@@ -342,6 +242,86 @@ contains
 
   contains
 
+    !> The interior's contents into cut%c from the content cq over the padded block: each
+    !> cell its own, then the cells the rules below change (an empty cell, the members of a
+    !> group, the last of the phase on an open side); the mass content kept aside
+    !> (cut%work%rho) for the cut cells' densities, which are made after q holds states.
+    subroutine contents(cq)
+      real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
+      integer :: ii, jj, kk, r(3), mm
+      real(wp) :: sum_c(ph%nflow), sum_a, least
+      call fit_work(cut%work%rho, 1 - blk%lay%ng, n + blk%lay%ng)
+      cut%work%rho = cq(:, :, :, i_rho)
+      ! the fractions the groups are formed by: a wet cell whose content fills less of it
+      ! than its fraction says (a surface the level set has moved ahead of the material, as
+      ! where a void closes) counts by its content, at the phase's rest density
+      call fit_work(cut%work%filled, [1, 1, 1], shape(alpha_e))
+      associate (filled => cut%work%filled)
+        do kk = 1, size(alpha_e, 3)
+          do jj = 1, size(alpha_e, 2)
+            do ii = 1, size(alpha_e, 1)
+              filled(ii, jj, kk) = alpha_e(ii, jj, kk)
+              if (alpha_e(ii, jj, kk) > 0.0_wp) filled(ii, jj, kk) = min(alpha_e(ii, jj, kk), &
+                max(cq(ii - e(1), jj - e(2), kk - e(3), i_rho), 0.0_wp) / ph%rest(1, cut%p))
+            end do
+          end do
+        end do
+      end associate
+      call group_roots(blk%lay, blk%offset, n, e, cut%work%filled, cut%small, cut%work%root)
+      associate (root => cut%work%root)
+        ! the roots some neighbour has joined (only a small cell joins, and only a ring
+        ! neighbour of its root)
+        member = .false.
+        do kk = lbound(root, 4), ubound(root, 4)
+          do jj = lbound(root, 3), ubound(root, 3)
+            do ii = lbound(root, 2), ubound(root, 2)
+              r = root(:, ii, jj, kk)
+              if (all(r == [ii, jj, kk]) .or. any(r < 1 .or. r > n)) cycle
+              member(r(1), r(2), r(3)) = .true.
+            end do
+          end do
+        end do
+        do mm = 1, nf
+          cut%c(1:n(1), 1:n(2), 1:n(3), mm, b) = cq(1:n(1), 1:n(2), 1:n(3), mm)
+        end do
+        do kk = 1, n(3)
+          do jj = 1, n(2)
+            do ii = 1, n(1)
+              r = root(:, ii, jj, kk)
+              if (.not. alpha(ii, jj, kk) > 0.0_wp) then
+                ! empty: what content it still holds found no wet neighbour (cut_donate); it
+                ! is taken out (and counted) at the step's end only, where the budget sees
+                ! it once (inside the step a stage's content counts with the stage's weight)
+                if (final) then
+                  cut%out(3, b) = cut%out(3, b) + cq(ii, jj, kk, i_rho) * vol(ii)
+                  cut%out(4, b) = cut%out(4, b) + cq(ii, jj, kk, i_en) * vol(ii)
+                end if
+              else if (all(r == [ii, jj, kk]) .and. .not. member(ii, jj, kk)) then
+                if (final .and. alpha(ii, jj, kk) < cut%small &
+                  .and. on_open_side([ii, jj, kk])) then
+                  ! a small cell alone on an open side: the last of the phase leaving the
+                  ! domain; what it holds goes out through the side (counted)
+                  cut%out(1, b) = cut%out(1, b) - cq(ii, jj, kk, i_rho) * vol(ii)
+                  cut%out(2, b) = cut%out(2, b) - cq(ii, jj, kk, i_en) * vol(ii)
+                  cut%c(ii, jj, kk, 1:nf, b) = 0.0_wp
+                end if
+              else
+                call group_sum(cq, r, sum_c, sum_a, least)
+                if (least > 0.0_wp) then
+                  ! every member keeps its mass and takes the group's state per mass
+                  cut%c(ii, jj, kk, 1:nf, b) = cq(ii, jj, kk, i_rho) * sum_c / sum_c(i_rho)
+                else
+                  ! a member has lost more mass than it held: the group's content shared by
+                  ! the members' fractions
+                  cut%c(ii, jj, kk, 1:nf, b) = alpha(ii, jj, kk) * sum_c / sum_a
+                end if
+              end if
+            end do
+          end do
+        end do
+      end associate
+    end subroutine contents
+
     real(wp) function alpha(i0, j0, k0)
       integer, intent(in) :: i0, j0, k0
       alpha = alpha_e(i0 + e(1), j0 + e(2), k0 + e(3))
@@ -359,7 +339,7 @@ contains
       real(wp), intent(in) :: cc0(:)
       real(wp) :: cand(4)
       integer :: l
-      cand(1) = full_density(blk%lay, blk%offset, e, alpha_e, cq(:, :, :, i_rho), c0)
+      cand(1) = full_density(blk%lay, blk%offset, e, alpha_e, cut%work%rho, c0)
       cand(2) = blk%q0(c0(1), c0(2), c0(3), lo + i_rho - 1)
       cand(3) = cc0(i_rho) / alpha(c0(1), c0(2), c0(3))
       cand(4) = ph%rest(1, cut%p)
@@ -411,22 +391,10 @@ contains
       on_open_side = on_open(blk%lay, blk%offset, open_side, c0)
     end function on_open_side
 
-    !> whether some neighbour of cell c0 has joined its group
-    logical function has_members(c0) result(yes)
-      integer, intent(in) :: c0(3)
-      integer :: nb(3, 26), l, nl
-      yes = .false.
-      call ring(blk%lay%ndim, c0, nb, nl)
-      do l = 1, nl
-        ! (only a small cell joins a group)
-        if (.not. filled(nb(1, l) + e(1), nb(2, l) + e(2), nb(3, l) + e(3)) < cut%small) cycle
-        if (all(root(:, nb(1, l), nb(2, l), nb(3, l)) == c0)) yes = .true.
-      end do
-    end function has_members
-
     !> The content (times volume) and wet volume of the group of root c0: c0 and the
     !> neighbours that joined it (faces first, then edges and corners).
-    subroutine group_sum(c0, sc, sa, least)
+    subroutine group_sum(cq, c0, sc, sa, least)
+      real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
       integer, intent(in) :: c0(3)
       real(wp), intent(out) :: sc(:), sa
       real(wp), intent(out) :: least   !< the smallest mass content of a member
@@ -436,7 +404,7 @@ contains
       least = cq(c0(1), c0(2), c0(3), i_rho)
       call ring(blk%lay%ndim, c0, nb, nl)
       do l = 1, nl
-        if (.not. all(root(:, nb(1, l), nb(2, l), nb(3, l)) == c0)) cycle
+        if (.not. all(cut%work%root(:, nb(1, l), nb(2, l), nb(3, l)) == c0)) cycle
         sc = sc + cq(nb(1, l), nb(2, l), nb(3, l), :) * vol(nb(1, l))
         sa = sa + alpha(nb(1, l), nb(2, l), nb(3, l)) * vol(nb(1, l))
         least = min(least, cq(nb(1, l), nb(2, l), nb(3, l), i_rho))
@@ -450,6 +418,25 @@ contains
     end function admissible
   end subroutine cut_open
 
+  !> One variable's states u of the full cells (kind 1: content c over fraction alpha) and
+  !> of the cells without material (kind 0: the step start's, u0); the cut cells' (kind 2)
+  !> are left. (Every cell is written and no fraction but a full cell's divides, so that
+  !> the loop runs without branches.)
+  subroutine put_states(kind, alpha, c, u0, u)
+    integer, intent(in) :: kind(:, :, :)
+    real(wp), intent(in) :: alpha(:, :, :), c(:, :, :), u0(:, :, :)
+    real(wp), intent(inout) :: u(:, :, :)
+    integer :: i, j, k
+    do k = 1, size(u, 3)
+      do j = 1, size(u, 2)
+        do i = 1, size(u, 1)
+          u(i, j, k) = merge(c(i, j, k) / merge(alpha(i, j, k), 1.0_wp, kind(i, j, k) == 1), &
+            merge(u0(i, j, k), u(i, j, k), kind(i, j, k) == 0), kind(i, j, k) == 1)
+        end do
+      end do
+    end do
+  end subroutine put_states
+
   !> After the stage update of block b: the phase's content C = a C0 + b (C + dt R) (the
   !> TVD Runge-Kutta weights of the stage), R the content rate that euler_rhs gave with the
   !> cut faces (in rhs), C0 the content at the step's start (the last open of the step
@@ -462,20 +449,43 @@ contains
     type(phases_t), intent(in) :: ph
     real(wp), intent(in) :: dt
     real(wp) :: a
-    integer :: lo, n(3)
+    integer :: lo, n(3), m
     lo = ph%lo(cut%p)
     n = blk%n
-    associate (c => cut%c(1:n(1), 1:n(2), 1:n(3), :, b), &
-        c0 => cut%c0(1:n(1), 1:n(2), 1:n(3), :, b), r => blk%rhs(:, :, :, lo:lo + ph%nflow - 1))
-      if (stage == 1) then
-        c = c0 + dt * r
-      else
-        a = rk_blend(stage, order)
-        c = a * c0 + (1.0_wp - a) * (c + dt * r)
-      end if
-      blk%q(1:n(1), 1:n(2), 1:n(3), lo:lo + ph%nflow - 1) = c
-    end associate
+    a = 0.0_wp
+    if (stage > 1) a = rk_blend(stage, order)
+    ! (variable by variable, the content and q's copy of it in one pass)
+    do m = 1, ph%nflow
+      call stage_content(stage == 1, a, dt, cut%c0(1:n(1), 1:n(2), 1:n(3), m, b), &
+        blk%rhs(:, :, :, lo + m - 1), cut%c(1:n(1), 1:n(2), 1:n(3), m, b), &
+        blk%q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
+    end do
   end subroutine cut_update
+
+  !> One variable's content c after a stage from the step start's c0 and the rate r (first:
+  !> the first stage, c0 + dt r; else a c0 + (1 - a) (c + dt r)), and its copy u.
+  subroutine stage_content(first, a, dt, c0, r, c, u)
+    logical, intent(in) :: first
+    real(wp), intent(in) :: a, dt, c0(:, :, :), r(:, :, :)
+    real(wp), intent(inout) :: c(:, :, :)
+    real(wp), intent(out) :: u(:, :, :)
+    integer :: i, j, k
+    do k = 1, size(c, 3)
+      do j = 1, size(c, 2)
+        if (first) then
+          do i = 1, size(c, 1)
+            c(i, j, k) = c0(i, j, k) + dt * r(i, j, k)
+            u(i, j, k) = c(i, j, k)
+          end do
+        else
+          do i = 1, size(c, 1)
+            c(i, j, k) = a * c0(i, j, k) + (1.0_wp - a) * (c(i, j, k) + dt * r(i, j, k))
+            u(i, j, k) = c(i, j, k)
+          end do
+        end if
+      end do
+    end do
+  end subroutine stage_content
 
   !> After the ghost fill of block blk (number b) at stage `stage`: a wet cell whose centre
   !> lies outside the surface holds a ghost state for the stencils, but its transported

@@ -9,6 +9,7 @@ module m_gfm_cut_cells
   use m_blocks, only: block_t
   use m_phases, only: phases_t
   use m_state, only: i_rho
+  use m_gfm_cut_work, only: fit_work
   implicit none
   private
   public :: full, full_density, group_roots, ring, on_open, in_domain, largest_neighbour
@@ -69,11 +70,11 @@ contains
     integer, intent(in) :: offset(3), n(3), e(3)
     real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
     real(wp), intent(in) :: small
-    integer, allocatable, intent(out) :: root(:, :, :, :)
+    integer, allocatable, intent(inout) :: root(:, :, :, :)   !< (kept from call to call)
     integer :: w(3), i, j, k, best(3)
     w = min(e, 2)
     ! one more layer than w, so that a neighbour's root can be looked at
-    allocate(root(3, -w(1):n(1)+w(1)+1, -w(2):n(2)+w(2)+1, -w(3):n(3)+w(3)+1))
+    call fit_work(root, [1, -w(1), -w(2), -w(3)], [3, n(1)+w(1)+1, n(2)+w(2)+1, n(3)+w(3)+1])
     root = 0
     do k = 1 - w(3), n(3) + w(3)
       do j = 1 - w(2), n(2) + w(2)
@@ -195,54 +196,90 @@ contains
     type(phases_t), intent(in) :: ph
     integer, intent(in) :: p
     real(wp), intent(in) :: alpha_e(:, :, :), alpha_prev(:, :, :)
-    real(wp), allocatable :: cq(:, :, :, :)
-    real(wp) :: ex(ph%nflow)
-    integer :: e(3), n(3), i, j, k, d, s, nb(3), best(3), lo, nf
+    real(wp), allocatable :: given(:, :)   !< (variable, listed cell) its new content
+    integer, allocatable :: at(:, :)       !< (3, listed cell) where it is
+    logical :: moving(blk%n(1), blk%n(2), blk%n(3)), holds(blk%n(1), blk%n(2), blk%n(3))
+    integer :: e(3), n(3), i, j, k, lo, nf, l, m
     lo = ph%lo(p)
     nf = ph%nflow
     associate (lay => blk%lay, q => blk%q)
       n = blk%n
       e = max(lay%ng - 1, 0)
-      allocate(cq(1-lay%ng(1):n(1)+lay%ng(1), 1-lay%ng(2):n(2)+lay%ng(2), &
-        1-lay%ng(3):n(3)+lay%ng(3), nf))
-      cq = q(:, :, :, lo:lo + nf - 1)
-      do k = 1, n(3)
-        do j = 1, n(2)
-          do i = 1, n(1)
-            ! (nothing moves where the cell and its face neighbours were full and still are)
-            if (settled([i, j, k])) cycle
-            if (.not. alpha_at([i, j, k]) > 0.0_wp) then
-              if (.not. maxval(abs(cq(i, j, k, :))) > 0.0_wp) cycle
-              best = largest_neighbour(lay, blk%offset, n, e, alpha_e, [i, j, k])
-              if (best(1) /= huge(1)) q(i, j, k, lo:lo + nf - 1) = 0.0_wp
-              cycle
-            end if
-            call filled_excess([i, j, k], best, ex)
-            if (best(1) /= huge(1)) q(i, j, k, lo:lo + nf - 1) = cq(i, j, k, :) - ex
-            ! what the emptied and the filled neighbours give this cell
-            do d = 1, lay%ndim
-              do s = -1, 1, 2
-                nb = [i, j, k]
-                nb(d) = nb(d) + s
-                if (.not. in_domain(lay, blk%offset, nb)) cycle
-                if (alpha_at(nb) > 0.0_wp) then
-                  call filled_excess(nb, best, ex)
-                else
-                  best = largest_neighbour(lay, blk%offset, n, e, alpha_e, nb)
-                  ex = cq(nb(1), nb(2), nb(3), :)
-                end if
-                ! content per cell volume: the volumes differ along r in axisymmetry
-                if (all(best == [i, j, k])) q(i, j, k, lo:lo + nf - 1) = &
-                  q(i, j, k, lo:lo + nf - 1) + ex &
-                  * (cell_volume(lay, blk%offset, nb(1)) / cell_volume(lay, blk%offset, i))
-              end do
+      ! the cells whose content may change: nothing moves where the cell and its face
+      ! neighbours were full and still are, nor out of an empty cell that holds nothing.
+      ! Their new contents are made from q as it came, then put in (no copy of the block)
+      ! (whether a cell holds anything, variable by variable along the rows)
+      holds = .false.
+      do m = lo, lo + nf - 1
+        do k = 1, n(3)
+          do j = 1, n(2)
+            do i = 1, n(1)
+              holds(i, j, k) = holds(i, j, k) .or. abs(q(i, j, k, m)) > 0.0_wp
             end do
           end do
         end do
       end do
+      do k = 1, n(3)
+        do j = 1, n(2)
+          do i = 1, n(1)
+            moving(i, j, k) = .not. settled([i, j, k])
+            if (moving(i, j, k) .and. .not. alpha_at([i, j, k]) > 0.0_wp) &
+              moving(i, j, k) = holds(i, j, k)
+          end do
+        end do
+      end do
+      allocate(given(nf, count(moving)), at(3, count(moving)))
+      call exchange(q(:, :, :, lo:lo + nf - 1))
+      do l = 1, size(at, 2)
+        q(at(1, l), at(2, l), at(3, l), lo:lo + nf - 1) = given(:, l)
+      end do
     end associate
 
   contains
+
+    !> The new contents of the moving cells into given (at: where), from the content cq.
+    subroutine exchange(cq)
+      real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
+      real(wp) :: ex(ph%nflow), u(ph%nflow)
+      integer :: ii, jj, kk, d, s, nb(3), best(3), m
+      m = 0
+      do kk = 1, n(3)
+        do jj = 1, n(2)
+          do ii = 1, n(1)
+            if (.not. moving(ii, jj, kk)) cycle
+            m = m + 1
+            at(:, m) = [ii, jj, kk]
+            u = cq(ii, jj, kk, :)
+            if (.not. alpha_at([ii, jj, kk]) > 0.0_wp) then
+              best = largest_neighbour(blk%lay, blk%offset, n, e, alpha_e, [ii, jj, kk])
+              if (best(1) /= huge(1)) u = 0.0_wp
+              given(:, m) = u
+              cycle
+            end if
+            call filled_excess(cq, [ii, jj, kk], best, ex)
+            if (best(1) /= huge(1)) u = cq(ii, jj, kk, :) - ex
+            ! what the emptied and the filled neighbours give this cell
+            do d = 1, blk%lay%ndim
+              do s = -1, 1, 2
+                nb = [ii, jj, kk]
+                nb(d) = nb(d) + s
+                if (.not. in_domain(blk%lay, blk%offset, nb)) cycle
+                if (alpha_at(nb) > 0.0_wp) then
+                  call filled_excess(cq, nb, best, ex)
+                else
+                  best = largest_neighbour(blk%lay, blk%offset, n, e, alpha_e, nb)
+                  ex = cq(nb(1), nb(2), nb(3), :)
+                end if
+                ! content per cell volume: the volumes differ along r in axisymmetry
+                if (all(best == [ii, jj, kk])) u = u + ex &
+                  * (cell_volume(blk%lay, blk%offset, nb(1)) / cell_volume(blk%lay, blk%offset, ii))
+              end do
+            end do
+            given(:, m) = u
+          end do
+        end do
+      end do
+    end subroutine exchange
 
     real(wp) function alpha_at(c)
       integer, intent(in) :: c(3)
@@ -269,7 +306,8 @@ contains
 
     !> For a cell c that has turned full since the last step: the content it gives (ex,
     !> negative where it takes) and to which cut neighbour (to); to(1) = huge(1) otherwise.
-    subroutine filled_excess(c, to, ex)
+    subroutine filled_excess(cq, c, to, ex)
+      real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
       integer, intent(in) :: c(3)
       integer, intent(out) :: to(3)
       real(wp), intent(out) :: ex(:)

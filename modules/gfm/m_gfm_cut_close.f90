@@ -26,17 +26,22 @@ contains
   !> 1 / (2 ndim + 1) (a closing cell surrounded by material takes the mean of itself and
   !> its neighbours), conservative face by face and computed alike by every block that sees
   !> the face (cq over the padded block less two layers). The block has n interior cells
-  !> along each direction and the fractions alpha_e reach e cells into the halo.
-  subroutine relax_closing(lay, offset, n, e, alpha_e, bigphi, owner, count, cq, tally)
+  !> along each direction and the fractions alpha_e reach e cells into the halo. The content
+  !> cq as it came is left as it is: where a cell closes, the content after the exchange is
+  !> put in cn (over the padded block) and relaxed is set; where none does (most blocks, and
+  !> every scene without a void body), cn is not touched.
+  subroutine relax_closing(lay, offset, n, e, alpha_e, bigphi, owner, count, cq, cn, tally, &
+      relaxed)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: offset(3), n(3), e(3)
     real(wp), intent(in) :: alpha_e(:, :, :)
     real(wp), intent(in) :: bigphi(:, :, :)   !< the phase's level set over the padded block
     integer, intent(in) :: owner(:, :, :)     !< whose surface (ls_region; 0: a void's)
     logical, intent(in) :: count   !< count the closing cells and their heat in tally
-    real(wp), intent(inout) :: cq(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)  !< content
+    real(wp), intent(in) :: cq(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)  !< content
+    real(wp), allocatable, intent(inout) :: cn(:, :, :, :)
     real(wp), intent(inout) :: tally(2)   !< closing cells (cell-steps), their heat
-    real(wp), allocatable :: cn(:, :, :, :)
+    logical, intent(out) :: relaxed
     logical, allocatable :: cls(:, :, :)
     real(wp) :: th, vc, vn
     integer :: ii, jj, kk, d, s, nb(3), e2(3)
@@ -49,9 +54,13 @@ contains
         end do
       end do
     end do
-    if (.not. any(cls)) return   ! (most blocks, and every scene without a void body)
+    relaxed = any(cls)
+    if (.not. relaxed) return   ! (most blocks, and every scene without a void body)
     e2 = max(e - 1, 0)
     th = 1.0_wp / real(2 * lay%ndim + 1, wp)
+    if (allocated(cn)) deallocate(cn)
+    allocate(cn(1-lay%ng(1):n(1)+lay%ng(1), 1-lay%ng(2):n(2)+lay%ng(2), &
+      1-lay%ng(3):n(3)+lay%ng(3), size(cq, 4)))
     cn = cq
     do kk = 1 - e2(3), n(3) + e2(3)
       do jj = 1 - e2(2), n(2) + e2(2)
@@ -85,7 +94,6 @@ contains
         end do
       end do
     end if
-    cq = cn
 
   contains
 

@@ -33,8 +33,10 @@ contains
   !> az(n1, n2, 0:n3) the apertures of the x, y, z faces (in an inactive direction the cell's
   !> planar fraction, the cross-section of the slab); alpha the volume fraction; area the
   !> interface area S (length in 2D, 1 or 0 in 1D, 2 pi r weighted in axisymmetry) and
-  !> normal its unit normal, out of the phase (0 where a cell has no interface);
-  !> alpha_plane the planar (un-weighted) fraction, which is alpha except in axisymmetry.
+  !> normal its unit normal, out of the phase (0 where a cell has no interface; both or
+  !> neither: the cut-cell update, which needs only the apertures and fractions, leaves them
+  !> out and saves their pass); alpha_plane the planar (un-weighted) fraction, which is alpha
+  !> except in axisymmetry.
   subroutine levelset_cut(ndim, axisymmetric, n, g, dx, r0, phi, ax, ay, az, alpha, area, &
       normal, alpha_plane)
     integer, intent(in) :: ndim, n(3), g(3)
@@ -43,8 +45,8 @@ contains
     real(wp), intent(in) :: phi(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
     real(wp), intent(out) :: ax(0:n(1), n(2), n(3)), ay(n(1), 0:n(2), n(3))
     real(wp), intent(out) :: az(n(1), n(2), 0:n(3))
-    real(wp), intent(out) :: alpha(n(1), n(2), n(3)), area(n(1), n(2), n(3))
-    real(wp), intent(out) :: normal(n(1), n(2), n(3), 3)
+    real(wp), intent(out) :: alpha(n(1), n(2), n(3))
+    real(wp), intent(out), optional :: area(n(1), n(2), n(3)), normal(n(1), n(2), n(3), 3)
     real(wp), intent(out), optional :: alpha_plane(n(1), n(2), n(3))
     real(wp), allocatable :: c(:, :, :), plane(:, :, :)
     integer :: cl(3)
@@ -73,7 +75,8 @@ contains
       az(:, :, 0) = plane(:, :, 1)
       az(:, :, 1) = plane(:, :, 1)
     end if
-    call interface_vectors(ndim, axi, n, dx, r0, ax, ay, az, plane, area, normal)
+    if (present(area) .and. present(normal)) &
+      call interface_vectors(ndim, axi, n, dx, r0, ax, ay, az, plane, area, normal)
     if (present(alpha_plane)) alpha_plane = plane
   end subroutine levelset_cut
 
@@ -105,6 +108,26 @@ contains
     real(wp) :: w, s
     hi = 1 - cl
     w = 1.0_wp / real(2**ndim, wp)
+    if (ndim == 3) then
+      ! (the same sum in the same order as below, written out so that it runs along i)
+      do k = 0, n(3)
+        do j = 0, n(2)
+          do i = 0, n(1)
+            s = 0.0_wp
+            s = s + w * phi(i, j, k)
+            s = s + w * phi(i+1, j, k)
+            s = s + w * phi(i, j+1, k)
+            s = s + w * phi(i+1, j+1, k)
+            s = s + w * phi(i, j, k+1)
+            s = s + w * phi(i+1, j, k+1)
+            s = s + w * phi(i, j+1, k+1)
+            s = s + w * phi(i+1, j+1, k+1)
+            c(i, j, k) = s
+          end do
+        end do
+      end do
+      return
+    end if
     do k = cl(3), n(3)
       do j = cl(2), n(2)
         do i = cl(1), n(1)
@@ -216,7 +239,7 @@ contains
     real(wp), intent(out) :: apt(merge(0, 1, d == 1):n(1), merge(0, 1, d == 2):n(2), &
       merge(0, 1, d == 3):n(3))
     integer :: i, j, k, lo(3), u(3), w(3), b(3)
-    real(wp) :: a, ms
+    real(wp) :: a, ms, p(4)
     lo = merge(0, 1, [1, 2, 3] == d)
     ! u, w: the unit steps along the face's two tangent directions
     u = 0
@@ -227,9 +250,18 @@ contains
       do j = lo(2), n(2)
         do i = lo(1), n(1)
           b = [i, j, k] - u - w
-          call cut_square_moments([c(b(1), b(2), b(3)), c(b(1)+u(1), b(2)+u(2), b(3)+u(3)), &
-            c(i, j, k), c(b(1)+w(1), b(2)+w(2), b(3)+w(3))], a, ms)
-          apt(i, j, k) = a
+          p = [c(b(1), b(2), b(3)), c(b(1)+u(1), b(2)+u(2), b(3)+u(3)), c(i, j, k), &
+            c(b(1)+w(1), b(2)+w(2), b(3)+w(3))]
+          ! (a face wholly in or out, most of them, as cut_square_moments has it, without
+          ! the call)
+          if (all(p < 0.0_wp)) then
+            apt(i, j, k) = 1.0_wp
+          else if (all(.not. p < 0.0_wp)) then
+            apt(i, j, k) = 0.0_wp
+          else
+            call cut_square_moments(p, a, ms)
+            apt(i, j, k) = a
+          end if
         end do
       end do
     end do

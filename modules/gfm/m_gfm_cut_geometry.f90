@@ -1,0 +1,102 @@
+!> The geometry of the cut-cell phase on one block at one stage (issue 15, manual/theory.md
+!> section 7, manual/interfaces.md section 2c): from the phase's composite level set over
+!> the padded block, the interior faces' apertures and the fractions (m_levelset_cut), the
+!> fractions also into the halo less its outer layer (for the mixing of m_gfm_cut). The
+!> level set moves at every stage (it is advanced with the state), so the geometry is made
+!> at every stage; its scratch is kept from block to block and stage to stage (m_gfm_cut_work).
+!> What the stage does with the geometry is m_gfm_cut's.
+module m_gfm_cut_geometry
+  use m_kinds, only: wp
+  use m_layout, only: layout_t
+  use m_euler, only: cut_faces_t
+  use m_levelset_cut, only: levelset_cut
+  use m_gfm_cut_cells, only: full
+  use m_gfm_cut_work, only: cut_work_t, fit_work
+  implicit none
+  private
+  public :: cut_block_geometry
+
+contains
+
+  !> The geometry of a block with n interior cells at offset in the grid lay, from the
+  !> phase's level set bigphi over the padded block: the interior faces' apertures,
+  !> fractions, planar fractions and partly filled cells into f, the fractions alpha_e over
+  !> the padded block less its outer layer. Beyond an outflow side (open_side) the level
+  !> set continues linearly (the halo holds a copy of the edge cell), so that the side's
+  !> faces get the apertures the surface really has there.
+  subroutine cut_block_geometry(work, lay, offset, n, bigphi, open_side, f, alpha_e)
+    type(cut_work_t), intent(inout) :: work
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), n(3)
+    real(wp), intent(in) :: bigphi(:, :, :)
+    logical, intent(in) :: open_side(2, 3)
+    type(cut_faces_t), intent(inout) :: f
+    real(wp), allocatable, intent(inout) :: alpha_e(:, :, :)
+    integer :: e(3), ne(3), g1(3), d, l, c
+    logical :: extended
+    real(wp) :: r0
+    e = max(lay%ng - 1, 0)
+    ne = n + 2 * e
+    g1 = merge(1, 0, lay%ng > 0)
+    call fit_work(alpha_e, 1 - e, n + e)
+    call fit_work(work%plane, 1 - e, n + e)
+    call fit_work(work%ax, [-e(1), 1 - e(2), 1 - e(3)], n + e)
+    call fit_work(work%ay, [1 - e(1), -e(2), 1 - e(3)], n + e)
+    call fit_work(work%az, [1 - e(1), 1 - e(2), -e(3)], n + e)
+    r0 = lay%lo(1) + real(offset(1) - e(1), wp) * lay%dx(1)
+    extended = .false.
+    do d = 1, lay%ndim
+      if (open_side(1, d) .and. offset(d) == 0) extended = .true.
+      if (open_side(2, d) .and. offset(d) + n(d) == lay%cells(d)) extended = .true.
+    end do
+    if (extended) then
+      call fit_work(work%phi, [1, 1, 1], shape(bigphi))
+      work%phi = bigphi
+      do d = 1, lay%ndim
+        if (open_side(1, d) .and. offset(d) == 0) then
+          c = lay%ng(d) + 1
+          do l = 1, lay%ng(d)
+            call extend(d, c - l, c, c + 1, real(l, wp))
+          end do
+        end if
+        if (open_side(2, d) .and. offset(d) + n(d) == lay%cells(d)) then
+          c = lay%ng(d) + n(d)
+          do l = 1, lay%ng(d)
+            call extend(d, c + l, c, c - 1, real(l, wp))
+          end do
+        end if
+      end do
+      call levelset_cut(lay%ndim, lay%axisymmetric, ne, g1, lay%dx, r0, work%phi, work%ax, &
+        work%ay, work%az, alpha_e, alpha_plane=work%plane)
+    else
+      call levelset_cut(lay%ndim, lay%axisymmetric, ne, g1, lay%dx, r0, bigphi, work%ax, &
+        work%ay, work%az, alpha_e, alpha_plane=work%plane)
+    end if
+    f%ax = work%ax(0:n(1), 1:n(2), 1:n(3))
+    f%ay = work%ay(1:n(1), 0:n(2), 1:n(3))
+    f%az = work%az(1:n(1), 1:n(2), 0:n(3))
+    f%alpha = alpha_e(1:n(1), 1:n(2), 1:n(3))
+    f%plane = work%plane(1:n(1), 1:n(2), 1:n(3))
+    f%partial = alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) > 0.0_wp &
+      .and. alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) < full
+
+  contains
+
+    !> layer `to` (an index of phi along dd) = edge + l (edge - inner), the whole layer
+    subroutine extend(dd, to, edge, inner, l)
+      integer, intent(in) :: dd, to, edge, inner
+      real(wp), intent(in) :: l
+      associate (phi => work%phi)
+        select case (dd)
+        case (1)
+          phi(to, :, :) = phi(edge, :, :) + l * (phi(edge, :, :) - phi(inner, :, :))
+        case (2)
+          phi(:, to, :) = phi(:, edge, :) + l * (phi(:, edge, :) - phi(:, inner, :))
+        case default
+          phi(:, :, to) = phi(:, :, edge) + l * (phi(:, :, edge) - phi(:, :, inner))
+        end select
+      end associate
+    end subroutine extend
+  end subroutine cut_block_geometry
+
+end module m_gfm_cut_geometry
