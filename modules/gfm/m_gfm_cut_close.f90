@@ -26,15 +26,15 @@ contains
   !> 1 / (2 ndim + 1) (a closing cell surrounded by material takes the mean of itself and
   !> its neighbours), conservative face by face and computed alike by every block that sees
   !> the face (cq over the padded block less two layers). The block has n interior cells
-  !> along each direction and the fractions alpha_e reach e cells into the halo. The content
+  !> along each direction and the fractions alpha reach e cells into the halo. The content
   !> cq as it came is left as it is: where a cell closes, the content after the exchange is
   !> put in cn (over the padded block) and relaxed is set; where none does (most blocks, and
   !> every scene without a void body), cn is not touched.
-  subroutine relax_closing(lay, offset, n, e, alpha_e, bigphi, owner, count, cq, cn, tally, &
+  subroutine relax_closing(lay, offset, n, e, alpha, bigphi, owner, count, cq, cn, tally, &
       relaxed)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: offset(3), n(3), e(3)
-    real(wp), intent(in) :: alpha_e(:, :, :)
+    real(wp), intent(in) :: alpha(1-e(1):, 1-e(2):, 1-e(3):)
     real(wp), intent(in) :: bigphi(:, :, :)   !< the phase's level set over the padded block
     integer, intent(in) :: owner(:, :, :)     !< whose surface (ls_region; 0: a void's)
     logical, intent(in) :: count   !< count the closing cells and their heat in tally
@@ -122,11 +122,6 @@ contains
           - 2.0_wp * bigphi(g(1), g(2), g(3)) < -lay%dx(d)) closing = .true.
       end do
     end function closing
-
-    real(wp) function alpha(i0, j0, k0)
-      integer, intent(in) :: i0, j0, k0
-      alpha = alpha_e(i0 + e(1), j0 + e(2), k0 + e(3))
-    end function alpha
   end subroutine relax_closing
 
   !> the kinetic energy per volume of content u
