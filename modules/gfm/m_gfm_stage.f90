@@ -145,7 +145,9 @@ contains
       if (p == cut%p) then
         ! the cut-cell phase: the rate of its content, fluxes times the wet faces; every
         ! face with a wet part joins two wet cells, and there the transported variables
-        ! (S, eps_p, w_c) move with the mass flux (upwind), whatever the cells' centres
+        ! (S, eps_p, w_c) move with the mass flux (upwind), whatever the cells' centres.
+        ! A dry cell's faces are dry and its rate 0: only the box of the wet cells and one
+        ! cell around them is computed (none where the block has no wet cell)
         allocate(wet(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)))
         wet = gf%work%bigphi(:, :, :, p)
         e = max(blk%lay%ng - 1, 0)
@@ -153,9 +155,17 @@ contains
           wet(1-e(1):blk%n(1)+e(1), 1-e(2):blk%n(2)+e(2), 1-e(3):blk%n(3)+e(3)) = &
             merge(-1.0_wp, 1.0_wp, a > 0.0_wp)
         end associate
+        near = wet(1:blk%n(1), 1:blk%n(2), 1:blk%n(3)) < 0.0_wp
+        if (.not. any(near)) then
+          blk%rhs(:, :, :, ph%lo(p):ph%hi(p)) = 0.0_wp
+          return
+        end if
+        box = bounding_box(near)
+        box(1, :) = max(box(1, :) - 1, 1)
+        box(2, :) = min(box(2, :) + 1, blk%n)
         call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
           blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
-          wet, trouble, cut%faces(b))
+          wet, trouble, cut%faces(b), box)
         cut%side(:, stage, b) = cut%side(:, stage, b) + work%bflux
         return
       end if
