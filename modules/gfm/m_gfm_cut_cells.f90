@@ -199,6 +199,7 @@ contains
     real(wp), allocatable :: given(:, :)   !< (variable, listed cell) its new content
     integer, allocatable :: at(:, :)       !< (3, listed cell) where it is
     logical :: moving(blk%n(1), blk%n(2), blk%n(3)), holds(blk%n(1), blk%n(2), blk%n(3))
+    real(wp) :: big(blk%n(1), blk%n(2), blk%n(3))
     integer :: e(3), n(3), i, j, k, lo, nf, l, m
     lo = ph%lo(p)
     nf = ph%nflow
@@ -208,17 +209,19 @@ contains
       ! the cells whose content may change: nothing moves where the cell and its face
       ! neighbours were full and still are, nor out of an empty cell that holds nothing.
       ! Their new contents are made from q as it came, then put in (no copy of the block)
-      ! (whether a cell holds anything, variable by variable along the rows)
-      holds = .false.
+      ! (whether a cell holds anything: its largest magnitude, variable by variable along
+      ! the rows, which vectorises where a logical or does not)
+      big = 0.0_wp
       do m = lo, lo + nf - 1
         do k = 1, n(3)
           do j = 1, n(2)
             do i = 1, n(1)
-              holds(i, j, k) = holds(i, j, k) .or. abs(q(i, j, k, m)) > 0.0_wp
+              big(i, j, k) = max(big(i, j, k), abs(q(i, j, k, m)))
             end do
           end do
         end do
       end do
+      holds = big > 0.0_wp
       do k = 1, n(3)
         do j = 1, n(2)
           do i = 1, n(1)
