@@ -19,6 +19,7 @@ module m_hotspot
     json_put_members
   use m_config, only: config_t, is_set, material_index
   use m_levelset_bodies, only: ls_set_t, ls_void
+  use m_scene, only: made_t
   use m_text, only: int_text
   implicit none
   private
@@ -73,9 +74,10 @@ contains
   !> The hot-spot diagnostics (m_hotspot): on when a material in use has a temperature (cv);
   !> the void bodies with their centres and sizes (a box's half diagonal, a half space none),
   !> each sphere of a random_spheres body on its own (name.k).
-  subroutine hot_start(hot, cfg, ls, phase_material, ndim, nblocks)
+  subroutine hot_start(hot, cfg, made, ls, phase_material, ndim, nblocks)
     type(hot_t), intent(out) :: hot
     type(config_t), intent(in) :: cfg
+    type(made_t), intent(in) :: made(:)
     type(ls_set_t), intent(in) :: ls
     character(len=*), intent(in) :: phase_material(:)
     integer, intent(in) :: ndim, nblocks
@@ -94,11 +96,10 @@ contains
     ! set: m_hotspot gives each cell to the nearest sphere)
     allocate(ls_of(0), names(0), centres(3, 0), radii(0))
     do k = 1, size(lv)
-      associate (body => cfg%bodies(ls%body(lv(k))))
-        if (body%shape == 'random_spheres' .and. allocated(body%spheres)) then
-          do l = 1, size(body%spheres, 2)
-            call add(trim(body%name) // '.' // int_text(l), body%spheres(1:3, l), &
-              body%spheres(4, l))
+      associate (body => cfg%bodies(ls%body(lv(k))), m => made(ls%body(lv(k))))
+        if (body%shape == 'random_spheres' .and. allocated(m%spheres)) then
+          do l = 1, size(m%spheres, 2)
+            call add(trim(body%name) // '.' // int_text(l), m%spheres(1:3, l), m%spheres(4, l))
           end do
         else if (any(body%shape == [character(len=name_len) :: 'box', 'random_field'])) then
           call add(body%name, 0.5_wp * (body%lo + body%hi), &

@@ -109,11 +109,11 @@ contains
     character(len=line_len) :: line
     integer :: b
     do b = 1, s%cfg%n_bodies
-      associate (body => s%cfg%bodies(b))
+      associate (body => s%cfg%bodies(b), m => s%made(b))
         select case (trim(body%shape))
         case ('random_spheres')
           write(line, '(a,i0,a,f6.4,a,i0,a)') "scene: body '" // trim(body%name) &
-            // "': ", size(body%spheres, 2), ' random spheres, ', body%generated_fraction, &
+            // "': ", size(m%spheres, 2), ' random spheres, ', m%fraction, &
             ' of the box lo..hi (seed ', body%seed, '; asked: '
           if (body%count > 0) then
             write(line, '(a,a,i0,a)') trim(line), ' count ', body%count, ')'
@@ -122,19 +122,19 @@ contains
           end if
         case ('random_field')
           write(line, '(a,i0,a,i0,a,i0,a,f6.4,a,i0,a,f6.4,a)') "scene: body '" &
-            // trim(body%name) // "': random field on ", size(body%field, 1), ' x ', &
-            size(body%field, 2), ' x ', size(body%field, 3), ' points, ', &
-            body%generated_fraction, ' of the box lo..hi below its level (seed ', body%seed, &
+            // trim(body%name) // "': random field on ", size(m%field, 1), ' x ', &
+            size(m%field, 2), ' x ', size(m%field, 3), ' points, ', &
+            m%fraction, ' of the box lo..hi below its level (seed ', body%seed, &
             '; asked: volume_fraction ', body%volume_fraction, ')'
         case ('grains')
           write(line, '(a,i0,a,es10.3,a,i0,a,f6.4,a,i0,a,f6.4,a)') "scene: body '" &
             // trim(body%name) // "': ", body%count, ' Voronoi grains, binder ', &
-            body%grains%thickness, ' m thick, in ', body%grains%ncolour, &
-            ' colours (level sets), ', body%generated_fraction, &
+            m%grains%thickness, ' m thick, in ', m%grains%ncolour, &
+            ' colours (level sets), ', m%fraction, &
             ' of the box lo..hi (seed ', body%seed, '; asked: volume_fraction ', &
             body%volume_fraction, ')'
-          if (body%grains%needed > body%grains%ncolour) write(line, '(a,i0,a)') trim(line) &
-            // '; colours cut from ', body%grains%needed, ' by &body colours: grains nearer' &
+          if (m%grains%needed > m%grains%ncolour) write(line, '(a,i0,a)') trim(line) &
+            // '; colours cut from ', m%grains%needed, ' by &body colours: grains nearer' &
             // ' than the ghost band share level sets'
         case default
           cycle

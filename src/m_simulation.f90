@@ -27,7 +27,8 @@ module m_simulation
   use m_reconstruct, only: scheme_from_name, stencil_reach
   use m_characteristic, only: variables_from_name
   use m_flux, only: flux_from_name, scalar_flux_from_name
-  use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status, scene_generate
+  use m_scene, only: inside_body, cell_centre, body_distance, rigid_block_status, &
+    scene_generate, made_t
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void, ls_rigid, ls_region
   use m_gfm, only: gf_t, gf_fit, probe_from_name
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, n_solid
@@ -80,6 +81,7 @@ module m_simulation
     type(phases_t) :: ph               !< the phases and the state layout (m_phases)
     type(numerics_t) :: num            !< scheme choices (m_euler)
     type(ls_set_t) :: ls               !< level-set bodies (m_levelset_bodies)
+    type(made_t), allocatable :: made(:)   !< what the generators made of each body (m_scene)
     type(gf_t) :: gf                   !< the ghost-fluid state (m_gfm)
     type(fix_t) :: fix                 !< the conservation fix (m_gfm_conserve)
     type(cut_t) :: cut                 !< the conservative cut-cell update (m_gfm_cut)
@@ -96,8 +98,7 @@ module m_simulation
 
 contains
 
-  !> (The generated shapes of cfg's bodies, random spheres and fields, are made here, into
-  !> cfg: m_scene's scene_generate.)
+  !> (The generated shapes of the bodies are made here, into sim%made: m_scene.)
   subroutine sim_setup(cfg, sim)
     type(config_t), intent(inout) :: cfg
     type(sim_t), intent(inout) :: sim
@@ -106,7 +107,8 @@ contains
     integer, allocatable :: work(:)
     type(material_t) :: mat
     call scene_generate(cfg%bodies(1:cfg%n_bodies), cfg%ndim, cfg%band * maxval((cfg%hi(1: &
-      cfg%ndim) - cfg%lo(1:cfg%ndim)) / cfg%cells(1:cfg%ndim)), base_name(cfg%deck_file))
+      cfg%ndim) - cfg%lo(1:cfg%ndim)) / cfg%cells(1:cfg%ndim)), base_name(cfg%deck_file), &
+      sim%made)
     sim%cfg = cfg
     do d = 1, 3
       periodic(d) = trim(cfg%bc_lo(d)) == 'periodic'
@@ -181,7 +183,8 @@ contains
         call fix_setup(sim%fix, sim%ph, sim%ls, cfg%conserve, size(sim%blocks))
       end if
     end if
-    call hot_start(sim%hot, sim%cfg, sim%ls, sim%ph%material, sim%lay%ndim, sim%lay%nblocks)
+    call hot_start(sim%hot, sim%cfg, sim%made, sim%ls, sim%ph%material, sim%lay%ndim, &
+      sim%lay%nblocks)
     sim%num%scheme = scheme_from_name(cfg%scheme)
     sim%num%variables = variables_from_name(cfg%variables)
     sim%num%flux = flux_from_name(cfg%flux)
@@ -293,11 +296,12 @@ contains
         ! a resting rigid body made of whole blocks: those blocks are switched off and their
         ! faces are exact walls of the neighbouring blocks (m_boundary); no level set
         if (body%material == 'rigid' .and. .not. any(abs(body%velocity) > 0.0_wp)) &
-          whole(b) = all([(rigid_block_status(sim%lay, id, body) /= 1, id = 1, &
+          whole(b) = all([(rigid_block_status(sim%lay, id, body, sim%made(b)) /= 1, id = 1, &
           sim%lay%nblocks)])
         if (.not. whole(b)) cycle
         do id = 1, sim%lay%nblocks
-          if (rigid_block_status(sim%lay, id, body) == 2) sim%lay%active(id) = .false.
+          if (rigid_block_status(sim%lay, id, body, sim%made(b)) == 2) &
+            sim%lay%active(id) = .false.
         end do
       end associate
     end do
@@ -348,7 +352,7 @@ contains
           do k = 1, ext(3)
             do j = 1, ext(2)
               do i = 1, ext(1)
-                dmax = max(dmax, body_distance(body, sim%lay%ndim, &
+                dmax = max(dmax, body_distance(body, sim%made(b), sim%lay%ndim, &
                   cell_centre(sim%lay, off, i, j, k)))
               end do
             end do
@@ -366,7 +370,7 @@ contains
     integer function colours(ib)
       integer, intent(in) :: ib
       colours = 1
-      if (cfg%bodies(ib)%shape == 'grains') colours = cfg%bodies(ib)%grains%ncolour
+      if (cfg%bodies(ib)%shape == 'grains') colours = sim%made(ib)%grains%ncolour
     end function colours
 
     !> A body of the base material only sets the initial state; so does a void body in a
@@ -402,7 +406,7 @@ contains
               x = cell_centre(sim%lay, blk%offset, i, j, k)
               do l = 1, sim%ls%n
                 phi(1, 1, 1, l) = body_distance(sim%cfg%bodies(sim%ls%body(l)), &
-                  sim%lay%ndim, x, sim%ls%colour(l))
+                  sim%made(sim%ls%body(l)), sim%lay%ndim, x, sim%ls%colour(l))
                 if (sim%ls%kind(l) /= ls_material) cycle
                 do m = 1, l - 1
                   if (sim%ls%kind(m) == ls_material) &
@@ -435,7 +439,7 @@ contains
         do nb = 1, sim%cfg%n_bodies
           if (.not. paints(nb, p)) cycle
           associate (body => sim%cfg%bodies(nb))
-            if (.not. inside_body(body, sim%lay%ndim, x)) cycle
+            if (.not. inside_body(body, sim%made(nb), sim%lay%ndim, x)) cycle
             ! the exact cell average of the sinusoid, so that smooth data start at
             ! the order of the scheme rather than at second order
             rho = body%rho * (1.0_wp + body%amplitude &
@@ -552,8 +556,9 @@ contains
         do k = lo(3), hi(3)
           do j = lo(2), hi(2)
             do i = lo(1), hi(1)
-              phi(i, j, k, l) = body_distance(sim%cfg%bodies(sim%ls%body(l)), sim%lay%ndim, &
-                cell_centre(sim%lay, off, i, j, k), sim%ls%colour(l))
+              phi(i, j, k, l) = body_distance(sim%cfg%bodies(sim%ls%body(l)), &
+                sim%made(sim%ls%body(l)), sim%lay%ndim, cell_centre(sim%lay, off, i, j, k), &
+                sim%ls%colour(l))
             end do
           end do
         end do

@@ -68,7 +68,7 @@ contains
         if (sim%ls%n > 0) then
           call timer_start(sim%timers, 'gfm')
           call ghost_fluid_fill(sim%gf, sim%cut, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, &
-            sim%cfg%bodies, sim%blocks, t, stage, sim%clk%dt, sim%cfg%thermal, failed)
+            sim%cfg%bodies, sim%made, sim%blocks, t, stage, sim%clk%dt, sim%cfg%thermal, failed)
           call timer_stop(sim%timers, 'gfm')
           ! (only the fluxes' pencils read this halo: the faces, when the scene allows it)
           call timer_start(sim%timers, 'halo')

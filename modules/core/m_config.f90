@@ -9,7 +9,7 @@ module m_config
   use m_kinds, only: wp, name_len, path_len, line_len
   implicit none
   private
-  public :: config_t, material_t, body_t, grains_t, unset, is_set, material_index
+  public :: config_t, material_t, body_t, unset, is_set, material_index
   public :: max_materials, max_bodies
 
   real(wp), parameter :: unset = -huge(1.0_wp)
@@ -33,18 +33,6 @@ module m_config
     real(wp) :: reaction_q = unset
   end type material_t
 
-  !> Voronoi grains as a generator makes them (m_scene_generate's make_grains): the seeds,
-  !> each grain's colour (its level set), the seeds within reach of each seed (grain k's are
-  !> near(first(k):first(k + 1) - 1)) and the seeds in bins (head, next), the binder
-  !> thickness, and the distance beyond which a grain's level set is held at that value.
-  type :: grains_t
-    real(wp), allocatable :: seed(:, :)                     !< (3, n)
-    integer, allocatable :: colour(:), first(:), near(:), head(:), next(:)
-    integer :: ncolour = 0, nbin(3) = 1
-    integer :: needed = 0     !< colours the ghost band needs (ncolour unless &body colours cut it)
-    real(wp) :: thickness = 0.0_wp, cap = 0.0_wp, bin = 1.0_wp
-  end type grains_t
-
   !> One &body group.
   type :: body_t
     character(len=name_len) :: name = '', material = '', shape = ''
@@ -58,11 +46,6 @@ module m_config
     character(len=name_len) :: size_distribution = 'fixed'
     real(wp) :: volume_fraction = 0.0_wp, radius_min = 0.0_wp, radius_max = 0.0_wp
     real(wp) :: radius_sigma = 0.0_wp, gap = 0.0_wp, correlation_length = 0.0_wp
-    ! not read: what the generator made of them at set-up (m_scene's scene_generate)
-    real(wp), allocatable :: spheres(:, :)    !< (1:3, k) centre, (4, k) radius of sphere k
-    real(wp), allocatable :: field(:, :, :)   !< signed distance on the field's grid over lo..hi
-    type(grains_t) :: grains                  !< Voronoi grains, a level set per colour
-    real(wp) :: generated_fraction = 0.0_wp   !< the volume fraction of the box it made
   end type body_t
 
   type :: config_t

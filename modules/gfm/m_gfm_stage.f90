@@ -16,7 +16,7 @@ module m_gfm_stage
   use m_runge_kutta, only: rk_weights
   use m_elastoplastic, only: plastic_correction
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_separate, ls_material
-  use m_scene, only: rigid_bodies_move
+  use m_scene, only: rigid_bodies_move, made_t
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
   use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars
@@ -46,8 +46,8 @@ contains
   !> With a cut-cell phase (m_gfm_cut), first its geometry at this stage and, after the first
   !> stage, its content into states (and their radial return); failed: a state that is not
   !> admissible.
-  subroutine ghost_fluid_fill(gf, cut, ls, ph, plan, lay, bc, bodies, blocks, t, stage, dt, &
-      thermal, failed)
+  subroutine ghost_fluid_fill(gf, cut, ls, ph, plan, lay, bc, bodies, made, blocks, t, stage, &
+      dt, thermal, failed)
     type(gf_t), intent(inout) :: gf
     type(cut_t), intent(inout) :: cut
     type(ls_set_t), intent(in) :: ls
@@ -56,13 +56,14 @@ contains
     type(layout_t), intent(in) :: lay
     type(bc_kind_t), intent(in) :: bc
     type(body_t), intent(in) :: bodies(:)
+    type(made_t), intent(in) :: made(:)
     type(block_t), intent(inout) :: blocks(:)
     real(wp), intent(in) :: t, dt
     integer, intent(in) :: stage
     logical, intent(in) :: thermal
     logical, intent(inout) :: failed
     integer :: b
-    call rigid_bodies_move(lay, bodies, ls, ph%ils, blocks, t)
+    call rigid_bodies_move(lay, bodies, made, ls, ph%ils, blocks, t)
     if (cut%on) then
       if (stage == 1) then
         ! this step's budget per block (a step that is redone starts it again)

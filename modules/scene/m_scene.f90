@@ -6,8 +6,9 @@
 !> a moving rigid body, whose level set is its distance at the time of each stage; whether
 !> the boxes of a material tile the domain (m_deck_check: then it needs no rest state). The
 !> generated shapes (random spheres, a random field, Voronoi grains: manual/scenes.md) are
-!> made once at set-up by scene_generate, on every rank alike; each is one body, with one
-!> level set, but grains one level set per colour (body_distance's colour). body_check
+!> made once at set-up by scene_generate into a made_t per body (the deck's body_t holds
+!> only what the deck says), on every rank alike; each is one body, with one level set, but
+!> grains one level set per colour (body_distance's colour). body_check
 !> holds the deck's rules for a body's shape and generator values (m_deck_check calls it).
 module m_scene
   use m_kinds, only: wp
@@ -16,14 +17,22 @@ module m_scene
   use m_text, only: int_text, real_text, got_text
   use m_scene_generate, only: random_spheres, spheres_distance
   use m_scene_field, only: random_field, field_distance, field_points, max_field_points
-  use m_scene_grains, only: make_grains, grains_distance
+  use m_scene_grains, only: grains_t, make_grains, grains_distance
   use m_layout, only: layout_t, block_offset, block_extent
   use m_blocks, only: block_t
   use m_levelset_bodies, only: ls_set_t, ls_rigid
   implicit none
   private
   public :: inside_body, cell_centre, rigid_block_status, body_distance, rigid_bodies_move
-  public :: boxes_cover, scene_generate, body_check
+  public :: boxes_cover, scene_generate, body_check, made_t
+
+  !> What scene_generate made of a body (nothing for a plain shape).
+  type :: made_t
+    real(wp), allocatable :: spheres(:, :)    !< (1:3, k) centre, (4, k) radius of sphere k
+    real(wp), allocatable :: field(:, :, :)   !< signed distance on the field's grid over lo..hi
+    type(grains_t) :: grains                  !< Voronoi grains, a level set per colour
+    real(wp) :: fraction = 0.0_wp             !< the volume fraction of the box it made
+  end type made_t
 
 contains
 
@@ -76,8 +85,9 @@ contains
   end function boxes_cover
 
   !> Is point x (only its first ndim coordinates count) inside the body?
-  pure logical function inside_body(body, ndim, x) result(inside)
+  pure logical function inside_body(body, made, ndim, x) result(inside)
     type(body_t), intent(in) :: body
+    type(made_t), intent(in) :: made
     integer, intent(in) :: ndim
     real(wp), intent(in) :: x(3)
     real(wp) :: r(3), a(3), along
@@ -96,7 +106,7 @@ contains
     case ('half_space')
       inside = dot_product(r, body%axis) <= 0.0_wp
     case ('random_spheres', 'random_field', 'grains')
-      inside = body_distance(body, ndim, x) <= 0.0_wp
+      inside = body_distance(body, made, ndim, x) <= 0.0_wp
     case default
       inside = .false.
     end select
@@ -107,8 +117,9 @@ contains
   !> spheres, so the level sets start as signed distances; a random field's is its grid's
   !> distance interpolated, clipped by the box; grains', that of the grains of one colour
   !> (colour > 0) or of all (m_scene_grains).
-  pure real(wp) function body_distance(body, ndim, x, colour) result(d)
+  pure real(wp) function body_distance(body, made, ndim, x, colour) result(d)
     type(body_t), intent(in) :: body
+    type(made_t), intent(in) :: made
     integer, intent(in) :: ndim
     real(wp), intent(in) :: x(3)
     integer, intent(in), optional :: colour
@@ -130,14 +141,14 @@ contains
     case ('half_space')
       d = dot_product(r, body%axis) / norm2(body%axis)
     case ('random_spheres')
-      d = spheres_distance(body%spheres, ndim, x)
+      d = spheres_distance(made%spheres, ndim, x)
     case ('random_field')
-      d = field_distance(body%field, ndim, body%lo, body%hi, x)
+      d = field_distance(made%field, ndim, body%lo, body%hi, x)
     case ('grains')
       if (present(colour)) then
-        d = grains_distance(body%grains, ndim, body%lo, body%hi, colour, x)
+        d = grains_distance(made%grains, ndim, body%lo, body%hi, colour, x)
       else
-        d = grains_distance(body%grains, ndim, body%lo, body%hi, 0, x)
+        d = grains_distance(made%grains, ndim, body%lo, body%hi, 0, x)
       end if
     case default
       d = huge(1.0_wp)
@@ -156,27 +167,28 @@ contains
   !> no communication: manual/scenes.md). g: the ghost band (a length) that grains of one
   !> colour keep apart. A scene that cannot be made stops every rank with the body's name
   !> and what to change (deck: the deck file's name for the message).
-  subroutine scene_generate(bodies, ndim, g, deck)
-    type(body_t), intent(inout) :: bodies(:)
+  subroutine scene_generate(bodies, ndim, g, deck, made)
+    type(body_t), intent(in) :: bodies(:)
+    type(made_t), allocatable, intent(out) :: made(:)
     integer, intent(in) :: ndim
     real(wp), intent(in) :: g
     character(len=*), intent(in) :: deck
     character(len=:), allocatable :: why
     integer :: b
+    allocate(made(size(bodies)))
     do b = 1, size(bodies)
-      associate (body => bodies(b))
+      associate (body => bodies(b), m => made(b))
         select case (trim(body%shape))
         case ('random_spheres')
           call random_spheres(ndim, body%lo, body%hi, body%seed, body%volume_fraction, &
             body%count, body%size_distribution, body%radius, body%radius_min, &
-            body%radius_max, body%radius_sigma, body%gap, body%spheres, &
-            body%generated_fraction, why)
+            body%radius_max, body%radius_sigma, body%gap, m%spheres, m%fraction, why)
         case ('random_field')
           call random_field(ndim, body%lo, body%hi, body%seed, body%correlation_length, &
-            body%volume_fraction, body%field, body%generated_fraction, why)
+            body%volume_fraction, m%field, m%fraction, why)
         case ('grains')
           call make_grains(ndim, body%lo, body%hi, body%seed, body%count, &
-            body%volume_fraction, g, body%grains, body%generated_fraction, why, body%colours)
+            body%volume_fraction, g, m%grains, m%fraction, why, body%colours)
         case default
           cycle
         end select
@@ -188,10 +200,11 @@ contains
 
   !> For block id: 0 when no cell centre lies in the rigid body, 2 when all do, 1 when only
   !> some do (a rigid body must cover whole blocks in this version).
-  integer function rigid_block_status(lay, id, body) result(status)
+  integer function rigid_block_status(lay, id, body, made) result(status)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: id
     type(body_t), intent(in) :: body
+    type(made_t), intent(in) :: made
     integer :: i, j, k, off(3), nin, n(3)
     off = block_offset(lay, id)
     n = block_extent(lay, id)
@@ -199,7 +212,7 @@ contains
     do k = 1, n(3)
       do j = 1, n(2)
         do i = 1, n(1)
-          if (inside_body(body, lay%ndim, cell_centre(lay, off, i, j, k))) nin = nin + 1
+          if (inside_body(body, made, lay%ndim, cell_centre(lay, off, i, j, k))) nin = nin + 1
         end do
       end do
     end do
@@ -210,9 +223,10 @@ contains
 
   !> The level sets (variables ils + l) of the moving rigid bodies at time t on every cell of
   !> the blocks, halo included: each body's distance, moved by its velocity times t.
-  subroutine rigid_bodies_move(lay, bodies, ls, ils, blocks, t)
+  subroutine rigid_bodies_move(lay, bodies, made, ls, ils, blocks, t)
     type(layout_t), intent(in) :: lay
     type(body_t), intent(in) :: bodies(:)
+    type(made_t), intent(in) :: made(:)
     type(ls_set_t), intent(in) :: ls
     integer, intent(in) :: ils
     type(block_t), intent(inout) :: blocks(:)
@@ -225,7 +239,7 @@ contains
           do k = lbound(q, 3), ubound(q, 3)
             do j = lbound(q, 2), ubound(q, 2)
               do i = lbound(q, 1), ubound(q, 1)
-                q(i, j, k, ils + l) = body_distance(body, lay%ndim, &
+                q(i, j, k, ils + l) = body_distance(body, made(ls%body(l)), lay%ndim, &
                   cell_centre(lay, blocks(b)%offset, i, j, k) - t * ls%velocity(:, l))
               end do
             end do

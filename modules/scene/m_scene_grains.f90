@@ -9,12 +9,23 @@
 !> not a pass over every grain.
 module m_scene_grains
   use m_kinds, only: wp
-  use m_config, only: grains_t
   use m_scene_generate, only: random_points
   implicit none
   private
-  public :: grain_distance, binder_thickness, grain_conflicts, colour_graph
+  public :: grains_t, grain_distance, binder_thickness, grain_conflicts, colour_graph
   public :: make_grains, grains_distance
+
+  !> Voronoi grains as make_grains makes them: the seeds, each grain's colour (its level
+  !> set), the seeds within reach of each seed (grain k's are near(first(k):first(k + 1) - 1))
+  !> and the seeds in bins (head, next), the binder thickness, and the distance beyond which
+  !> a grain's level set is held at that value.
+  type :: grains_t
+    real(wp), allocatable :: seed(:, :)                     !< (3, n)
+    integer, allocatable :: colour(:), first(:), near(:), head(:), next(:)
+    integer :: ncolour = 0, nbin(3) = 1
+    integer :: needed = 0     !< colours the ghost band needs (ncolour unless &body colours cut it)
+    real(wp) :: thickness = 0.0_wp, cap = 0.0_wp, bin = 1.0_wp
+  end type grains_t
 
 contains
 

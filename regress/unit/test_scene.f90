@@ -12,8 +12,7 @@ program test_scene
   use m_scene_generate, only: rng_t, rng_next, rng_seed, rng_uniform, random_spheres, &
     sphere_volume, spheres_distance, random_points
   use m_scene_grains, only: grain_distance, binder_thickness, grain_conflicts, colour_graph, &
-    make_grains, grains_distance
-  use m_config, only: grains_t
+    make_grains, grains_distance, grains_t
   use m_scene_field, only: random_field, field_distance
   use m_test_check, only: check_start, check, check_close, check_done, int_text
   implicit none
