@@ -100,7 +100,7 @@ contains
 
   !> (The generated shapes of the bodies are made here, into sim%made: m_scene.)
   subroutine sim_setup(cfg, sim)
-    type(config_t), intent(inout) :: cfg
+    type(config_t), intent(in) :: cfg
     type(sim_t), intent(inout) :: sim
     logical :: periodic(3)
     integer :: d, p

@@ -198,8 +198,8 @@ contains
     real(wp), intent(in) :: alpha_e(:, :, :), alpha_prev(:, :, :)
     real(wp), allocatable :: given(:, :)   !< (variable, listed cell) its new content
     integer, allocatable :: at(:, :)       !< (3, listed cell) where it is
-    logical :: moving(blk%n(1), blk%n(2), blk%n(3)), holds(blk%n(1), blk%n(2), blk%n(3))
-    real(wp) :: big(blk%n(1), blk%n(2), blk%n(3))
+    logical :: moving(blk%n(1), blk%n(2), blk%n(3))
+    real(wp) :: big(blk%n(1), blk%n(2), blk%n(3))   !< the largest magnitude a cell holds
     integer :: e(3), n(3), i, j, k, lo, nf, l, m
     lo = ph%lo(p)
     nf = ph%nflow
@@ -221,13 +221,12 @@ contains
           end do
         end do
       end do
-      holds = big > 0.0_wp
       do k = 1, n(3)
         do j = 1, n(2)
           do i = 1, n(1)
             moving(i, j, k) = .not. settled([i, j, k])
             if (moving(i, j, k) .and. .not. alpha_at([i, j, k]) > 0.0_wp) &
-              moving(i, j, k) = holds(i, j, k)
+              moving(i, j, k) = big(i, j, k) > 0.0_wp
           end do
         end do
       end do
