@@ -38,9 +38,9 @@ module m_eos
     'stiffened_gas', 'mie_gruneisen', 'polynomial_mie_gruneisen']
   !> the &material values each eos needs (m_deck_check asks for them); a gas's rho0, p0 and
   !> cv are asked for only where the scene uses them
-  character(len=52), parameter :: eos_needs(4) = [character(len=52) :: 'gamma', &
-    'gamma p_inf', 'rho0 p0 c0 s gruneisen cv T0', &
-    'rho0 p0 bulk_modulus poly_a poly_b gruneisen cv T0']
+  character(len=60), parameter :: eos_needs(4) = [character(len=60) :: 'gamma', &
+    'gamma, p_inf', 'rho0, p0, c0, s, gruneisen, cv, T0', &
+    'rho0, p0, gruneisen, cv, T0, bulk_modulus, poly_a, poly_b']
 
   ! Isentrope table (eq. 2.13): nodes eta_j = j deta, eta = 0 is node 0 so that the kink of
   ! the reference curves at rho = rho0 falls on a node; RK4 takes rk4_substeps steps per

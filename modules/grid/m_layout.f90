@@ -12,7 +12,7 @@ module m_layout
   implicit none
   private
   public :: layout_t, layout_init, block_coords, block_id, block_neighbor, block_offset
-  public :: block_extent, block_view, cell_volume, active_cells, layout_block_size
+  public :: block_extent, block_view, cell_volume, active_cells, layout_blocks
   public :: n_halo, no_neighbor, wall_neighbor
 
   integer, parameter :: n_halo = 4          !< halo depth in every active direction
@@ -183,5 +183,18 @@ contains
     b = findloc([(mod(n, b) == 0, b = target, target / 2, -1)], .true., 1)
     b = merge(target + 1 - b, target, b > 0)
   end function layout_block_size
+
+  !> The blocks of a domain of cells in nd dimensions as the deck gives them: 0 asks for
+  !> layout_block_size; any other size goes (the last block takes what is left), one larger
+  !> than the domain being the domain; 1 beyond nd.
+  pure function layout_blocks(cells, block, nd) result(b)
+    integer, intent(in) :: cells(3), block(3), nd
+    integer :: b(3), d
+    b = 1
+    do d = 1, nd
+      b(d) = min(block(d), cells(d))
+      if (block(d) == 0) b(d) = layout_block_size(cells(d), nd)
+    end do
+  end function layout_blocks
 
 end module m_layout

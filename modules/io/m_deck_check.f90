@@ -13,10 +13,10 @@ module m_deck_check
   use m_eos, only: eos_names, eos_needs
   use m_text, only: int_text, real_text, in_list, to_lower, got_text
   use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
-  use m_deck_schema, only: rule, deck_table, var_index, deck_error_count, deck_has_error, &
+  use m_deck_schema, only: rule, deck_table, var_index, n_deck_errors, deck_has_error, &
     deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
-  use m_layout, only: n_halo, layout_block_size
+  use m_layout, only: n_halo, layout_blocks
   use m_scene, only: boxes_cover, body_check
   implicit none
   private
@@ -58,8 +58,7 @@ contains
     ! &material: each, then the library entries that the base material and bodies use
     do i = 1, cfg%n_materials
       call check_material(cfg%materials(i))
-      call rule(any(cfg%materials(1:i - 1)%name == cfg%materials(i)%name), 'material name', &
-        "material '" // trim(cfg%materials(i)%name) // "' is defined twice")
+      call check_name('material', cfg%materials(i)%name, cfg%materials(1:i - 1)%name)
     end do
     call rule(len_trim(cfg%base_material) == 0, 'domain base_material', &
       "missing required value (a material name, or 'void')")
@@ -121,24 +120,13 @@ contains
         call rule(.not. cfg%hi(d) > cfg%lo(d), 'domain hi' // dd, 'must be > lo' // dd &
           // ' = ' // real_text(cfg%lo(d)) // got_text(cfg%hi(d)))
       end do
-      ! block(d) = 0 (the default) asks for a block size chosen here
-      do d = 1, 3
-        if (d > nd) then
-          cfg%block(d) = 1
-        else if (deck_has_error('&domain cells')) then
-          cycle
-        else if (cfg%block(d) == 0) then
-          cfg%block(d) = layout_block_size(cfg%cells(d), nd)
-        else
-          call rule(cfg%block(d) < n_halo, 'domain block(' // int_text(d) // ')', &
-            'must be >= 4 cells (the halo is 4 deep; 0 = chosen for you)' &
-            // got_text(cfg%block(d)))
-        end if
-        ! any block size goes: the last block along d takes what is left (m_layout); one
-        ! larger than the domain is the domain
-        if (d <= nd .and. cfg%cells(d) >= n_halo) cfg%block(d) = min(cfg%block(d), &
-          cfg%cells(d))
+      ! block(d) = 0 (the default) asks for a block size chosen by m_layout
+      do d = 1, nd
+        call rule(cfg%block(d) /= 0 .and. cfg%block(d) < n_halo .and. .not. deck_has_error( &
+          '&domain cells'), 'domain block(' // int_text(d) // ')', 'must be >= 4 cells (the ' &
+          // 'halo is 4 deep; 0 = chosen for you)' // got_text(cfg%block(d)))
       end do
+      if (.not. deck_has_error('&domain cells')) cfg%block = layout_blocks(cfg%cells, cfg%block, nd)
       do d = 1, nd
         dd = '(' // int_text(d) // ')'
         lo_periodic = (cfg%bc_lo(d) == 'periodic')
@@ -178,7 +166,7 @@ contains
       type(deck_var_t), allocatable :: vars(:)
       character(len=:), allocatable :: in_m, model, why
       integer :: k, ke, km, ks, kr, n_before, n_start
-      n_start = deck_error_count()
+      n_start = n_deck_errors
       ! a name that could not be read: which material this is, and so its values, is unknown
       if (len_trim(m%name) == 0 .and. deck_has_error('&material name')) return
       call deck_table(cfg, m, cfg%bodies(1), vars)
@@ -187,22 +175,15 @@ contains
       kr = var_index(vars, 'conductivity')     ! conduction's and reaction's lines from here
       call rule(len_trim(m%name) == 0, 'material name', 'missing required value')
       in_m = " in material '" // trim(m%name) // "'"
-      call rule(.not. valid_name(m%name), 'material name', "'" // trim(m%name) &
-        // "' is not a valid name (letters, digits, _ - . only)")
       call rule(m%name == 'void' .or. m%name == 'rigid', 'material name', "'" &
         // trim(m%name) // "' is reserved (a body may use it without any &material)")
       call rule(len_trim(m%eos) == 0, 'material eos', 'missing required value' // in_m)
       ke = findloc(eos_names, m%eos, 1)
       ! an unknown or missing eos needs nothing more
-      if (deck_error_count() == n_start .and. ke > 0) &
+      if (n_deck_errors == n_start .and. ke > 0) &
         call need(vars, eos_needs(ke), "eos '" // trim(m%eos) // "'" // in_m)
       call check_allowed(vars(1:ks), in_m)
-      if (is_set(m%p0) .and. m%eos == 'ideal_gas') call rule(m%p0 < 0.0_wp, 'material p0', &
-        'must be >= 0.0' // in_m // got_text(m%p0))
-      ! (p_inf missing is an error already; real_text(-unset) would overflow)
-      if (is_set(m%p0) .and. is_set(m%p_inf) .and. m%eos == 'stiffened_gas') call rule(.not. &
-        m%p0 > -m%p_inf, 'material p0', 'must be > ' // real_text(-m%p_inf) // in_m &
-        // got_text(m%p0))
+      call gas_p_rule('material p0', m%p0, m, in_m)
       ! strength values (the table's lines after strength_model) without a model would be
       ! ignored without a word: refuse them
       if (len_trim(m%strength_model) == 0) then
@@ -213,7 +194,7 @@ contains
         end do
         m%strength_model = 'none'
       end if
-      n_before = deck_error_count()
+      n_before = n_deck_errors
       model = trim(m%strength_model)
       km = findloc(strength_model_names, model, 1)
       call rule(model /= 'none' .and. in_list(m%eos, gas_eoses), 'material strength_model', &
@@ -222,7 +203,7 @@ contains
       if (in_list(model, plastic_models) .and. .not. is_set(m%taylor_quinney)) &
         m%taylor_quinney = 0.9_wp
       if (model == 'johnson_cook' .and. .not. is_set(m%eps_rate0)) m%eps_rate0 = 1.0_wp
-      if (deck_error_count() == n_before .and. km > 0) &
+      if (n_deck_errors == n_before .and. km > 0) &
         call need(vars, strength_model_needs(km), "strength_model '" // model // "'" // in_m)
       ! a perfectly plastic solid without a yield stress is a fluid
       if (is_set(m%yield0)) call rule(model == 'perfectly_plastic' .and. .not. m%yield0 > 0.0_wp, &
@@ -244,7 +225,7 @@ contains
         'material cv', 'missing required value (conduction and reaction need the ' &
         // 'temperature)' // in_m)
       ! the strength modules' own test of the parameters, should it know more than the above
-      if (deck_error_count() > n_start .or. ke == 0 .or. km == 0) return
+      if (n_deck_errors > n_start .or. ke == 0 .or. km == 0) return
       why = strength_problem(strength_from_material(m))
       call rule(len_trim(why) > 0, 'material strength_model', trim(why) // in_m)
     end subroutine check_material
@@ -384,10 +365,7 @@ contains
         associate(b => cfg%bodies(i))
           if (len_trim(b%name) == 0) b%name = 'body' // int_text(i)
           in_b = " in body '" // trim(b%name) // "'"
-          call rule(.not. valid_name(b%name), 'body name', "'" // trim(b%name) &
-            // "' is not a valid name (letters, digits, _ - . only)")
-          call rule(any(cfg%bodies(1:i - 1)%name == b%name), 'body name', "body '" &
-            // trim(b%name) // "' is defined twice")
+          call check_name('body', b%name, cfg%bodies(1:i - 1)%name)
           call rule(len_trim(b%material) == 0, 'body material', 'missing required value' // in_b)
           call rule(len_trim(b%shape) == 0, 'body shape', 'missing required value' // in_b)
           call body_check(b, cfg%ndim, in_b, rule)
@@ -402,32 +380,24 @@ contains
           ! a gas without the rho0 or p0 that the body takes: reported by check_gas_needs
           if (.not. is_set(b%rho) .or. .not. (is_set(b%p) .or. is_set(b%T))) cycle
           call rule(.not. b%rho > 0.0_wp, 'body rho', 'must be > 0' // in_b // got_text(b%rho))
-          if (is_set(b%T)) then
-            call rule(.not. b%T > 0.0_wp, 'body T', 'must be > 0' // in_b // got_text(b%T))
-          else if (m%eos == 'ideal_gas') then
-            call rule(b%p < 0.0_wp, 'body p', 'must be >= 0 for a gas' // in_b // got_text(b%p))
-          else if (m%eos == 'stiffened_gas' .and. is_set(m%p_inf)) then   ! (else an error already)
-            call rule(.not. b%p > -m%p_inf, 'body p', 'must be > -p_inf = ' &
-              // real_text(-m%p_inf) // in_b // got_text(b%p))
-          end if
+          if (is_set(b%T)) call rule(.not. b%T > 0.0_wp, 'body T', 'must be > 0' // in_b &
+            // got_text(b%T))
+          if (.not. is_set(b%T)) call gas_p_rule('body p', b%p, m, in_b)
         end associate
       end do
     end subroutine check_bodies
 
   end subroutine deck_check
 
-  !> Each value named in list (blank-separated) must be set (vars: the material's lines).
+  !> Each value of list ('a, b', in the order of the table) must be set (vars: the
+  !> material's lines).
   subroutine need(vars, list, what)
     type(deck_var_t), intent(in) :: vars(:)
     character(len=*), intent(in) :: list, what
-    character(len=:), allocatable :: rest
-    integer :: b
-    rest = trim(list)
-    do while (len(rest) > 0)
-      b = index(rest // ' ', ' ')
-      call rule(.not. is_set(vars(var_index(vars, to_lower(rest(1:b - 1))))%r), 'material ' &
-        // rest(1:b - 1), 'missing required value for ' // what)
-      rest = trim(adjustl(rest(b:)))
+    integer :: k
+    do k = 1, size(vars)
+      if (in_list(vars(k)%name, trim(list))) call rule(.not. is_set(vars(k)%r), 'material ' &
+        // trim(vars(k)%name), 'missing required value for ' // what)
     end do
   end subroutine need
 
@@ -470,10 +440,27 @@ contains
     end do
   end subroutine check_allowed
 
-  logical function valid_name(name)
-    character(len=*), intent(in) :: name
-    valid_name = len_trim(name) > 0 .and. verify(trim(name), 'abcdefghijklmnopqrstuvwxyz' &
-      // 'ABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_-.') == 0
-  end function valid_name
+  !> A gas's pressure where it is set (var: a material's p0, a body's p; in: which one): at
+  !> least 0 in an ideal gas, above -p_inf in a stiffened gas (p_inf missing: an error already).
+  subroutine gas_p_rule(var, p, m, in)
+    character(len=*), intent(in) :: var, in
+    real(wp), intent(in) :: p
+    type(material_t), intent(in) :: m
+    if (.not. is_set(p)) return
+    call rule(m%eos == 'ideal_gas' .and. p < 0.0_wp, var, 'must be >= 0 for a gas' // in &
+      // got_text(p))
+    if (m%eos == 'stiffened_gas' .and. is_set(m%p_inf)) call rule(.not. p > -m%p_inf, var, &
+      'must be > -p_inf = ' // real_text(-m%p_inf) // in // got_text(p))
+  end subroutine gas_p_rule
+
+  !> A material's or body's name: letters, digits, _ - . only, and none before it the same.
+  subroutine check_name(group, name, before)
+    character(len=*), intent(in) :: group, name, before(:)
+    call rule(verify(trim(name), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ' &
+      // '0123456789_-.') > 0, group // ' name', "'" // trim(name) // "' is not a valid name " &
+      // '(letters, digits, _ - . only)')
+    call rule(any(before == name), group // ' name', group // " '" // trim(name) &
+      // "' is defined twice")
+  end subroutine check_name
 
 end module m_deck_check

@@ -5,6 +5,7 @@
 !> checking each constant's form (gfortran's reader takes `3` for a string, `1` for a
 !> logical, and traps on `1e999`); value_text writes it back. It returns reasons, never stops.
 module m_deck_parse
+  use, intrinsic :: iso_fortran_env, only: int64
   use m_kinds, only: wp, name_len, line_len
   use m_config, only: is_set
   use m_text, only: int_text, to_lower, real_text, quoted, replaced
@@ -316,11 +317,14 @@ contains
     character(len=*), intent(in) :: c
     character(len=:), allocatable :: why
     integer :: k
+    integer(int64) :: big
     why = ''
     select case (v%kind)
     case ('i')
+      big = huge(big)   ! (kept by a read that overflows even 64 bits)
+      if (integer_form(c)) read(c, *, iostat=k) big
       if (.not. integer_form(c)) why = 'expected an integer, got ' // c
-      if (len(why) == 0 .and. .not. integer_fits(c)) why = 'integer too large: ' // c
+      if (len(why) == 0 .and. abs(big) > huge(1)) why = 'integer too large: ' // c
     case ('r')
       why = real_problem(c)
     case ('l')
@@ -387,14 +391,6 @@ contains
     if (len(t) > 0) s0 = merge(2, 1, t(1:1) == '+' .or. t(1:1) == '-')
     integer_form = len(t) >= s0 .and. verify(t(s0:), '0123456789') == 0
   end function integer_form
-
-  pure logical function integer_fits(t)
-    character(len=*), intent(in) :: t
-    character(len=:), allocatable :: d
-    d = t(merge(2, 1, t(1:1) == '+' .or. t(1:1) == '-'):)
-    d = d(merge(verify(d, '0'), len(d), verify(d, '0') > 0):)   ! without leading zeros
-    integer_fits = len(d) < 10 .or. (len(d) == 10 .and. d <= '2147483647')
-  end function integer_fits
 
   !> Why t is not a real constant of the safe range, or '': [sign] mantissa (digits with one
   !> '.' at most) [e|d [sign] digits], 0 or 1e-300 < |x| < 1e300 (reading 1e999 would trap

@@ -22,7 +22,7 @@ module m_deck_schema
   private
   public :: deck_table, group_table, group_names, var_index
   public :: fail, fail_now, rule, error_line, deck_errors_begin, deck_errors_stop
-  public :: deck_error_count, deck_error_mark, deck_has_error
+  public :: deck_error_mark, deck_has_error
 
   character(len=8), parameter :: group_names(7) = [character(len=8) :: 'run', 'domain', &
     'numerics', 'physics', 'material', 'body', 'output']
@@ -51,7 +51,7 @@ module m_deck_schema
   type(config_t), target, save :: proto
   ! the errors found so far (lines), and the variables they name ('&group var')
   character(len=:), allocatable :: err_base, err_text, err_keys
-  integer :: n_errors = 0
+  integer, public, protected :: n_deck_errors = 0
 
 contains
 
@@ -291,7 +291,7 @@ contains
     err_base = base
     err_text = ''
     err_keys = '|'
-    n_errors = 0
+    n_deck_errors = 0
   end subroutine deck_errors_begin
 
   !> Record `ERROR <base> <where>: <why> (typical value <typical>)` and return, unless the
@@ -300,9 +300,9 @@ contains
     character(len=*), intent(in) :: where, why, typical
     if (deck_has_error(where)) return
     call deck_error_mark(where)
-    if (n_errors > 0) err_text = err_text // new_line('a')
+    if (n_deck_errors > 0) err_text = err_text // new_line('a')
     err_text = err_text // error_line(err_base, where, why, typical)
-    n_errors = n_errors + 1
+    n_deck_errors = n_deck_errors + 1
   end subroutine fail
 
   !> fail(), then stop every rank with every error found so far.
@@ -314,12 +314,8 @@ contains
 
   !> Collective: when errors were found, print them, one a line, and stop every rank.
   subroutine deck_errors_stop()
-    if (allocated(err_text)) call stop_collective(err_text, n_errors == 0)
+    if (allocated(err_text)) call stop_collective(err_text, n_deck_errors == 0)
   end subroutine deck_errors_stop
-
-  integer function deck_error_count() result(n)
-    n = n_errors
-  end function deck_error_count
 
   !> '&group var' of where (an index dropped), or '' outside a group.
   function error_key(where) result(key)

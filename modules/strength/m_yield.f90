@@ -41,10 +41,10 @@ module m_yield
     'elastic', 'perfectly_plastic', 'linear_hardening', 'johnson_cook', &
     'viscoplastic_power_law']
   !> the &material values each model needs (m_deck_check asks for them)
-  character(len=60), parameter :: strength_model_needs(6) = [character(len=60) :: '', &
-    'shear_modulus', 'shear_modulus yield0', 'shear_modulus yield0 hardening_modulus', &
-    'shear_modulus yield0 jc_b jc_n jc_c jc_m t_melt eps_rate0', &
-    'shear_modulus yield0 vp_chi vp_m vp_n']
+  character(len=64), parameter :: strength_model_needs(6) = [character(len=64) :: '', &
+    'shear_modulus', 'shear_modulus, yield0', 'shear_modulus, yield0, hardening_modulus', &
+    'shear_modulus, yield0, jc_b, jc_n, jc_c, jc_m, t_melt, eps_rate0', &
+    'shear_modulus, yield0, vp_chi, vp_m, vp_n']
 
   real(wp), parameter :: mpa = 1.0e6_wp            !< the power law's stress unit (Pa)
   real(wp), parameter :: exp_max = 700.0_wp        !< exp() argument cap (no overflow)
