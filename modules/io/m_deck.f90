@@ -10,8 +10,7 @@ module m_deck
   use m_errors, only: stop_collective
   use m_comm, only: comm_bcast, comm_is_root
   use m_material_library, only: library_lookup
-  use m_text, only: int_text, base_name, file_text, to_lower, edit_distance, quoted, in_list, &
-    joined
+  use m_text, only: int_text, base_name, file_text, to_lower, edit_distance, quoted, in_list, joined
   use m_deck_parse, only: deck_var_t, deck_assign_t, deck_group_t, deck_split, first_group, &
     assign_value, value_text
   use m_deck_schema, only: deck_table, group_table, group_names, var_index, fail, fail_now, &
@@ -64,7 +63,7 @@ contains
     character(len=*), intent(in) :: overrides(:)
     type(deck_group_t), allocatable, intent(inout) :: groups(:)
     type(deck_assign_t), allocatable, intent(inout) :: assigns(:)
-    character(len=:), allocatable :: ov, gname, lhs, name, value
+    character(len=:), allocatable :: ov, gname, lhs, name, value, why
     type(deck_var_t), allocatable :: vars(:)
     integer :: i, k, eq, dot, paren
     do i = 1, size(overrides)
@@ -73,15 +72,13 @@ contains
       dot = index(ov(1:max(eq - 1, 0)), '.')
       lhs = trim(adjustl(ov(dot + 1:max(eq - 1, 0))))
       paren = index(lhs // '(', '(')
-      if (len(ov) == 0) then
-        cycle
-      else if (dot <= 1 .or. dot >= eq - 1) then
-        call fail('', "bad command-line override '" // ov &
-          // "' (expected group.variable=value such as run.out_dir='out/x')", '')
-        cycle
-      else if (paren <= len(lhs) .and. lhs(len(lhs):len(lhs)) /= ')') then
-        call fail('', "bad command-line override '" // ov &
-          // "' (an index is written cells(2)=100)", '')
+      if (len(ov) == 0) cycle
+      why = ''
+      if (paren <= len(lhs) .and. lhs(len(lhs):) /= ')') why = 'an index is written cells(2)=100'
+      if (dot <= 1 .or. dot >= eq - 1) why = 'expected group.variable=value such as ' &
+        // "run.out_dir='out/x'"
+      if (len(why) > 0) then
+        call fail('', "bad command-line override '" // ov // "' (" // why // ')', '')
         cycle
       end if
       gname = to_lower(trim(ov(1:dot - 1)))
@@ -95,8 +92,7 @@ contains
           value = auto_quote(value)
       end if
       if (first_group(groups, gname) == 0) groups = [groups, deck_group_t(gname, 0)]
-      assigns = [assigns, deck_assign_t(first_group(groups, gname), 0, name, lhs(paren:), &
-        value)]
+      assigns = [assigns, deck_assign_t(first_group(groups, gname), 0, name, lhs(paren:), value)]
     end do
   end subroutine apply_overrides
 

@@ -9,7 +9,8 @@ module m_deck_check
   use m_config, only: config_t, material_t, body_t, is_set, max_materials, material_index
   use m_material_library, only: library_lookup, library_names
   use m_yield, only: strength_problem, strength_from_material, strength_model_names, &
-    strength_model_needs
+    strength_model_needs, strength_resolve, strength_rules, strength_thermal
+  use m_reaction, only: reaction_rules
   use m_eos, only: eos_names, eos_needs
   use m_text, only: int_text, real_text, in_list, to_lower, got_text
   use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
@@ -23,9 +24,6 @@ module m_deck_check
   public :: deck_check
 
   character(len=*), parameter :: gas_eoses = 'ideal_gas, stiffened_gas'
-  !> the models with plastic work, which heats (Taylor-Quinney)
-  character(len=*), parameter :: plastic_models = 'perfectly_plastic, linear_hardening, ' &
-    // 'johnson_cook, viscoplastic_power_law'
   character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach, phase, ' &
     // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq, lambda'
   character(len=*), parameter :: strength_fields = 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
@@ -197,30 +195,14 @@ contains
       n_before = n_deck_errors
       model = trim(m%strength_model)
       km = findloc(strength_model_names, model, 1)
-      call rule(model /= 'none' .and. in_list(m%eos, gas_eoses), 'material strength_model', &
-        "'" // model // "' needs the eos of a solid (mie_gruneisen or polynomial_mie_" &
-        // "gruneisen), not '" // trim(m%eos) // "'" // in_m)
-      if (in_list(model, plastic_models) .and. .not. is_set(m%taylor_quinney)) &
-        m%taylor_quinney = 0.9_wp
-      if (model == 'johnson_cook' .and. .not. is_set(m%eps_rate0)) m%eps_rate0 = 1.0_wp
+      call strength_resolve(m, in_list(m%eos, gas_eoses), in_m, rule)
       if (n_deck_errors == n_before .and. km > 0) &
         call need(vars, strength_model_needs(km), "strength_model '" // model // "'" // in_m)
-      ! a perfectly plastic solid without a yield stress is a fluid
-      if (is_set(m%yield0)) call rule(model == 'perfectly_plastic' .and. .not. m%yield0 > 0.0_wp, &
-        'material yield0', 'must be > 0.0' // in_m // got_text(m%yield0))
-      if (is_set(m%T0) .and. is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, &
-        'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // got_text(m%t_melt))
-      if (is_set(m%melt_slope)) call rule(.not. is_set(m%t_melt), 'material melt_slope', &
-        'needs t_melt, the melt temperature at rho0 (HMX: 550 K)' // in_m)
+      call strength_rules(m, in_m, rule)
       ! vp_m < 1 (its line): the flow stress then grows with the rate, the return has one root
       call check_allowed(vars(ks + 1:), in_m)
-      ! conduction and reaction act on the temperature; a reaction needs its heat, and a
-      ! heat needs a reaction
-      if (len_trim(m%reaction) == 0) m%reaction = 'none'
-      call rule(m%reaction /= 'none' .and. .not. is_set(m%reaction_q), 'material reaction_q', &
-        "missing required value (reaction '" // trim(m%reaction) // "' releases it)" // in_m)
-      call rule(m%reaction == 'none' .and. is_set(m%reaction_q), 'material reaction', &
-        "missing required value (reaction_q is given; HMX: 'henson')" // in_m)
+      call reaction_rules(m, in_m, rule)
+      ! conduction and reaction act on the temperature
       call rule((m%reaction /= 'none' .or. is_set(m%conductivity)) .and. .not. is_set(m%cv), &
         'material cv', 'missing required value (conduction and reaction need the ' &
         // 'temperature)' // in_m)
@@ -319,8 +301,7 @@ contains
           // 'is off, so there is neither plastic heating nor thermal softening (leave thermal ' &
           // 'out)')
         call switch('thermal', cfg%thermal, cfg%strength .and. any(used .and. &
-          (m%strength_model == 'johnson_cook' .or. (in_list(m%strength_model, plastic_models) &
-          .and. m%taylor_quinney > 0.0_wp))), 'softens with temperature (johnson_cook) or heats ' &
+          strength_thermal(m)), 'softens with temperature (johnson_cook) or heats ' &
           // 'by plastic work (taylor_quinney > 0) (leave thermal out: it is on exactly when a ' &
           // 'material needs it)')
         call switch('heat_conduction', cfg%heat_conduction, any(used .and. &
@@ -346,8 +327,7 @@ contains
       logical, intent(inout) :: on
       logical, intent(in) :: needed
       if (.not. given('physics', name)) on = needed
-      call rule(on .and. .not. needed, 'physics ' // name, '.true. but no material in use ' &
-        // why)
+      call rule(on .and. .not. needed, 'physics ' // name, '.true. but no material in use ' // why)
     end subroutine switch
 
     !> Whether the base material or a body uses the material called name.
