@@ -11,14 +11,15 @@ module m_deck_check
   use m_yield, only: strength_problem, strength_from_material, strength_model_names, &
     strength_model_needs, strength_resolve, strength_rules, strength_thermal
   use m_reaction, only: reaction_rules
-  use m_eos, only: eos_names, eos_needs
+  use m_eos, only: eos_names, eos_needs, gas_p_rule
   use m_text, only: int_text, real_text, in_list, to_lower, got_text
   use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
   use m_deck_schema, only: rule, deck_table, var_index, n_deck_errors, deck_has_error, &
     deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
   use m_layout, only: n_halo, layout_blocks
-  use m_scene, only: boxes_cover, body_check
+  use m_boundary, only: bc_check
+  use m_scene, only: state_needs, body_check
   implicit none
   private
   public :: deck_check
@@ -92,7 +93,7 @@ contains
     subroutine check_domain()
       character(len=:), allocatable :: nd_text, dd
       integer :: d, nd
-      logical :: lo_periodic, hi_periodic, axisymmetric
+      logical :: axisymmetric
       nd = cfg%ndim
       call rule(.not. given('domain', 'ndim'), 'domain ndim', 'missing required value')
       ! without a &domain group at all, its other required values are the same mistake
@@ -125,15 +126,7 @@ contains
           // 'halo is 4 deep; 0 = chosen for you)' // got_text(cfg%block(d)))
       end do
       if (.not. deck_has_error('&domain cells')) cfg%block = layout_blocks(cfg%cells, cfg%block, nd)
-      do d = 1, nd
-        dd = '(' // int_text(d) // ')'
-        lo_periodic = (cfg%bc_lo(d) == 'periodic')
-        hi_periodic = (cfg%bc_hi(d) == 'periodic')
-        call rule(lo_periodic .neqv. hi_periodic, 'domain ' // merge('bc_hi', 'bc_lo', &
-          lo_periodic) // dd, 'periodic on one side only: bc_lo' // dd // " = '" &
-          // trim(cfg%bc_lo(d)) // "' but bc_hi" // dd // " = '" // trim(cfg%bc_hi(d)) &
-          // "' (both or neither must be 'periodic')")
-      end do
+      call bc_check(cfg%bc_lo, cfg%bc_hi, nd, rule)
       call rule(axisymmetric .and. .not. cfg%lo(1) > 0.0_wp .and. .not. deck_has_error( &
         '&domain lo') .and. cfg%bc_lo(1) /= 'symmetry', 'domain bc_lo(1)', "must be " &
         // "'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), got '" &
@@ -162,7 +155,7 @@ contains
     subroutine check_material(m)
       type(material_t), target, intent(inout) :: m
       type(deck_var_t), allocatable :: vars(:)
-      character(len=:), allocatable :: in_m, model, why
+      character(len=:), allocatable :: in_m, why
       integer :: k, ke, km, ks, kr, n_before, n_start
       n_start = n_deck_errors
       ! a name that could not be read: which material this is, and so its values, is unknown
@@ -181,7 +174,7 @@ contains
       if (n_deck_errors == n_start .and. ke > 0) &
         call need(vars, eos_needs(ke), "eos '" // trim(m%eos) // "'" // in_m)
       call check_allowed(vars(1:ks), in_m)
-      call gas_p_rule('material p0', m%p0, m, in_m)
+      call gas_p_rule('material p0', m%p0, m, in_m, rule)
       ! strength values (the table's lines after strength_model) without a model would be
       ! ignored without a word: refuse them
       if (len_trim(m%strength_model) == 0) then
@@ -193,11 +186,11 @@ contains
         m%strength_model = 'none'
       end if
       n_before = n_deck_errors
-      model = trim(m%strength_model)
-      km = findloc(strength_model_names, model, 1)
+      km = findloc(strength_model_names, m%strength_model, 1)
       call strength_resolve(m, in_list(m%eos, gas_eoses), in_m, rule)
       if (n_deck_errors == n_before .and. km > 0) &
-        call need(vars, strength_model_needs(km), "strength_model '" // model // "'" // in_m)
+        call need(vars, strength_model_needs(km), "strength_model '" // trim(m%strength_model) &
+          // "'" // in_m)
       call strength_rules(m, in_m, rule)
       ! vp_m < 1 (its line): the flow stress then grows with the rate, the return has one root
       call check_allowed(vars(ks + 1:), in_m)
@@ -236,42 +229,24 @@ contains
     end subroutine use_material
 
     !> What a gas in use needs besides its eos constants, asked for only where the scene
-    !> uses it: cv where a temperature is used (the output field T, a body given by T; left
-    !> out of the default fields otherwise); rho0 (p0) where the gas fills cells whose state
-    !> no body gives: a body of it without rho (without p or T), the base material outside
-    !> boxes of it that tile the domain, and every phase of a scene with level sets.
-    !> temperature: whether every gas in use has a cv.
+    !> uses it (m_scene's state_needs): cv where a temperature is used (the output field T, a
+    !> body given by T; left out of the default fields otherwise), rho0 and p0 where the scene
+    !> takes the gas's own state. temperature: whether every gas in use has a cv.
     subroutine check_gas_needs(temperature)
       logical, intent(out) :: temperature
-      character(len=:), allocatable :: in_m, why_t, why_rho, why_p, what
-      logical :: fields_given, interfaces
-      integer :: k, i
-      fields_given = given('output', 'fields')
-      interfaces = any(cfg%bodies(1:cfg%n_bodies)%material /= cfg%base_material)
+      character(len=:), allocatable :: why_t, why_rho, why_p, what
+      integer :: k
       temperature = .true.
       do k = 1, cfg%n_materials
         associate(m => cfg%materials(k))
           if (.not. in_list(m%eos, gas_eoses) .or. .not. material_used(m%name)) cycle
-          in_m = " in material '" // trim(m%name) // "'"
-          what = "missing required value for eos '" // trim(m%eos) // "'" // in_m
+          what = "missing required value for eos '" // trim(m%eos) // "' in material '" &
+            // trim(m%name) // "'"
           why_t = ''
-          why_rho = ''
-          if (fields_given .and. any(cfg%fields(1:cfg%n_fields) == 'T')) &
+          if (given('output', 'fields') .and. any(cfg%fields(1:cfg%n_fields) == 'T')) &
             why_t = 'the output field T'
-          if (interfaces) why_rho = 'the rest state of a scene with level sets'
-          ! (the boxes of the base material only set its initial state)
-          if (m%name == cfg%base_material .and. .not. boxes_cover(cfg%bodies(1:cfg%n_bodies), &
-            m%name, cfg%ndim, cfg%lo, cfg%hi)) why_rho = 'the base material outside its bodies'
-          why_p = why_rho
-          do i = 1, cfg%n_bodies
-            associate(b => cfg%bodies(i))
-              if (b%material /= m%name) cycle
-              if (is_set(b%T)) why_t = "body '" // trim(b%name) // "', given by T"
-              if (.not. is_set(b%rho)) why_rho = "body '" // trim(b%name) // "' without rho"
-              if (.not. is_set(b%p) .and. .not. is_set(b%T)) &
-                why_p = "body '" // trim(b%name) // "' without p or T"
-            end associate
-          end do
+          call state_needs(cfg%bodies(1:cfg%n_bodies), m%name, cfg%base_material, cfg%ndim, &
+            cfg%lo, cfg%hi, why_rho, why_p, why_t)
           call rule(.not. is_set(m%cv) .and. len(why_t) > 0, 'material cv', what // ' (' &
             // why_t // ' needs a temperature)')
           if (.not. is_set(m%cv)) temperature = .false.
@@ -301,9 +276,9 @@ contains
           // 'is off, so there is neither plastic heating nor thermal softening (leave thermal ' &
           // 'out)')
         call switch('thermal', cfg%thermal, cfg%strength .and. any(used .and. &
-          strength_thermal(m)), 'softens with temperature (johnson_cook) or heats ' &
-          // 'by plastic work (taylor_quinney > 0) (leave thermal out: it is on exactly when a ' &
-          // 'material needs it)')
+          strength_thermal(m)), 'softens with temperature (johnson_cook) or heats by plastic ' &
+          // 'work (taylor_quinney > 0) (leave thermal out: it is on exactly when a material ' &
+          // 'needs it)')
         call switch('heat_conduction', cfg%heat_conduction, any(used .and. &
           is_set(m%conductivity)), 'has a conductivity (HMX: 0.4 W/(m K))')
         call switch('reaction', cfg%reaction, any(used .and. m%reaction /= 'none' .and. &
@@ -362,7 +337,7 @@ contains
           call rule(.not. b%rho > 0.0_wp, 'body rho', 'must be > 0' // in_b // got_text(b%rho))
           if (is_set(b%T)) call rule(.not. b%T > 0.0_wp, 'body T', 'must be > 0' // in_b &
             // got_text(b%T))
-          if (.not. is_set(b%T)) call gas_p_rule('body p', b%p, m, in_b)
+          if (.not. is_set(b%T)) call gas_p_rule('body p', b%p, m, in_b, rule)
         end associate
       end do
     end subroutine check_bodies
@@ -419,19 +394,6 @@ contains
         // in // got)
     end do
   end subroutine check_allowed
-
-  !> A gas's pressure where it is set (var: a material's p0, a body's p; in: which one): at
-  !> least 0 in an ideal gas, above -p_inf in a stiffened gas (p_inf missing: an error already).
-  subroutine gas_p_rule(var, p, m, in)
-    character(len=*), intent(in) :: var, in
-    real(wp), intent(in) :: p
-    type(material_t), intent(in) :: m
-    if (.not. is_set(p)) return
-    call rule(m%eos == 'ideal_gas' .and. p < 0.0_wp, var, 'must be >= 0 for a gas' // in &
-      // got_text(p))
-    if (m%eos == 'stiffened_gas' .and. is_set(m%p_inf)) call rule(.not. p > -m%p_inf, var, &
-      'must be > -p_inf = ' // real_text(-m%p_inf) // in // got_text(p))
-  end subroutine gas_p_rule
 
   !> A material's or body's name: letters, digits, _ - . only, and none before it the same.
   subroutine check_name(group, name, before)
