@@ -6,18 +6,18 @@
 !> Choices and the form of each value were checked when it was read (m_deck).
 module m_deck_check
   use m_kinds, only: wp, name_len
-  use m_config, only: config_t, material_t, body_t, is_set, max_materials, material_index
+  use m_config, only: config_t, material_t, is_set, max_materials, material_index
   use m_material_library, only: library_lookup, library_names
   use m_yield, only: strength_problem, strength_from_material, strength_model_names, &
     strength_model_needs, strength_resolve, strength_rules, strength_thermal
   use m_reaction, only: reaction_rules
   use m_eos, only: eos_names, eos_needs, gas_p_rule
-  use m_text, only: int_text, real_text, in_list, to_lower, got_text
+  use m_text, only: int_text, in_list, got_text
   use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
   use m_deck_schema, only: rule, deck_table, var_index, n_deck_errors, deck_has_error, &
     deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
-  use m_layout, only: n_halo, layout_blocks
+  use m_layout, only: layout_check
   use m_boundary, only: bc_check
   use m_scene, only: state_needs, body_check
   implicit none
@@ -91,8 +91,7 @@ contains
     end function given
 
     subroutine check_domain()
-      character(len=:), allocatable :: nd_text, dd
-      integer :: d, nd
+      integer :: nd
       logical :: axisymmetric
       nd = cfg%ndim
       call rule(.not. given('domain', 'ndim'), 'domain ndim', 'missing required value')
@@ -101,31 +100,15 @@ contains
       call rule(nd < 1 .or. nd > 3, 'domain ndim', 'must be 1, 2 or 3' // got_text(nd))
       ! the directions, cells and blocks mean nothing without a valid ndim
       if (deck_has_error('&domain ndim')) return
-      nd_text = 'ndim = ' // int_text(nd)
       axisymmetric = cfg%geometry == 'axisymmetric'
       call rule(axisymmetric .and. nd /= 2, 'domain geometry', "'axisymmetric' needs ndim = 2 " &
-        // '(x = r, y = z), got ' // nd_text)
+        // '(x = r, y = z), got ndim = ' // int_text(nd))
       call rule(axisymmetric .and. cfg%lo(1) < 0.0_wp, 'domain lo(1)', 'must be >= 0 in ' &
         // 'axisymmetric geometry (x is the radius)' // got_text(cfg%lo(1)))
       call rule(.not. given('domain', 'cells'), 'domain cells', 'missing required value')
       call rule(.not. given('domain', 'hi'), 'domain hi', 'missing required value')
-      do d = 1, 3
-        dd = '(' // int_text(d) // ')'
-        call rule(d <= nd .and. cfg%cells(d) < n_halo, 'domain cells' // dd, &
-          'must be >= 4 in a direction d <= ' // nd_text // ' (a block holds at least 4 ' &
-          // 'cells: the halo is 4 deep)' // got_text(cfg%cells(d)))
-        call rule(d > nd .and. cfg%cells(d) /= 1, 'domain cells' // dd, &
-          'must be 1 in a direction d > ' // nd_text // got_text(cfg%cells(d)))
-        call rule(.not. cfg%hi(d) > cfg%lo(d), 'domain hi' // dd, 'must be > lo' // dd &
-          // ' = ' // real_text(cfg%lo(d)) // got_text(cfg%hi(d)))
-      end do
-      ! block(d) = 0 (the default) asks for a block size chosen by m_layout
-      do d = 1, nd
-        call rule(cfg%block(d) /= 0 .and. cfg%block(d) < n_halo .and. .not. deck_has_error( &
-          '&domain cells'), 'domain block(' // int_text(d) // ')', 'must be >= 4 cells (the ' &
-          // 'halo is 4 deep; 0 = chosen for you)' // got_text(cfg%block(d)))
-      end do
-      if (.not. deck_has_error('&domain cells')) cfg%block = layout_blocks(cfg%cells, cfg%block, nd)
+      call layout_check(cfg%cells, cfg%block, cfg%lo, cfg%hi, nd, &
+        deck_has_error('&domain cells'), rule)
       call bc_check(cfg%bc_lo, cfg%bc_hi, nd, rule)
       call rule(axisymmetric .and. .not. cfg%lo(1) > 0.0_wp .and. .not. deck_has_error( &
         '&domain lo') .and. cfg%bc_lo(1) /= 'symmetry', 'domain bc_lo(1)', "must be " &
