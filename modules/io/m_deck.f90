@@ -57,15 +57,13 @@ contains
   end subroutine deck_read
 
   !> Turn each `group.var[(i)]=value` into an assignment appended to the first instance of
-  !> the group (made if absent). Unquoted string values are quoted, since the shell eats
-  !> the quotes of run.out_dir='x'.
+  !> the group (made if absent).
   subroutine apply_overrides(overrides, groups, assigns)
     character(len=*), intent(in) :: overrides(:)
     type(deck_group_t), allocatable, intent(inout) :: groups(:)
     type(deck_assign_t), allocatable, intent(inout) :: assigns(:)
     character(len=:), allocatable :: ov, gname, lhs, name, value, why
-    type(deck_var_t), allocatable :: vars(:)
-    integer :: i, k, eq, dot, paren
+    integer :: i, eq, dot, paren
     do i = 1, size(overrides)
       ov = trim(adjustl(overrides(i)))
       eq = index(ov, '=')
@@ -85,12 +83,6 @@ contains
       name = to_lower(trim(lhs(1:paren - 1)))
       value = trim(adjustl(ov(eq + 1:)))
       ! an unknown group or variable is reported when the group is read
-      vars = group_table(gname)
-      k = var_index(vars, name)
-      if (k > 0) then
-        if (index('ck', vars(k)%kind) > 0 .and. scan(value(1:min(1, len(value))), "'""") == 0) &
-          value = auto_quote(value)
-      end if
       if (first_group(groups, gname) == 0) groups = [groups, deck_group_t(gname, 0)]
       assigns = [assigns, deck_assign_t(first_group(groups, gname), 0, name, lhs(paren:), value)]
     end do
@@ -159,7 +151,7 @@ contains
     !> first: a name the group knows, a value of the variable's form, a keyword's choice.
     subroutine read_group(g, pass)
       integer, intent(in) :: g, pass
-      character(len=:), allocatable :: why, where, at
+      character(len=:), allocatable :: why, where, at, value
       integer :: k, j
       vars = pack(vars, vars%group == groups(g)%name)
       do k = 1, size(assigns)
@@ -177,7 +169,11 @@ contains
           ! replaces the deck's list, rather than only its first entries
           if (a%line == 0 .and. len(a%index) == 0 .and. associated(vars(j)%count) .and. &
             associated(vars(j)%ca)) vars(j)%ca = ''
-          why = assign_value(vars(j), a%index, a%value)
+          ! the shell eats the quotes of run.out_dir='x': a string there is quoted if it is not
+          value = a%value
+          if (a%line == 0 .and. index('ck', vars(j)%kind) > 0 .and. &
+            scan(value(1:min(1, len(value))), "'""") == 0) value = auto_quote(value)
+          why = assign_value(vars(j), a%index, value)
           if (len(why) > 0) then
             call fail(where // a%index, why // at, vars(j)%typical)
           else if (vars(j)%kind == 'k') then
