@@ -99,9 +99,6 @@ contains
   pure integer function material_index(cfg, name) result(k)
     type(config_t), intent(in) :: cfg
     character(len=*), intent(in) :: name
-    do k = 1, cfg%n_materials
-      if (cfg%materials(k)%name == name) return
-    end do
-    k = 0
+    k = findloc(cfg%materials(1:cfg%n_materials)%name, name, 1)
   end function material_index
 end module m_config

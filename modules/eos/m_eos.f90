@@ -18,16 +18,18 @@
 !> eos_temperature interpolates it (quintic Hermite). Without eos_prepare the table is absent
 !> and eos_temperature falls back to the old references (T0 + (e - e_H)/cv, T0 + e/cv), which
 !> give no shock heating: every Mie-Gruneisen eos_t must be passed to eos_prepare.
-!> Not here: strength, reaction, mixtures.
+!> The deck's rule of a gas's pressure is here too (gas_p_rule). Not here: strength,
+!> reaction, mixtures.
 module m_eos
   use m_kinds, only: wp
   use m_config, only: material_t, is_set
-  use m_text, only: choice_index
+  use m_text, only: choice_index, real_text, got_text
+  use m_errors, only: rule_i
   implicit none
   private
   public :: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial
   public :: eos_pressure, eos_energy, eos_sound_speed2, eos_temperature, eos_min_pressure
-  public :: eos_prepare, eos_names, eos_needs, eos_from_material
+  public :: eos_prepare, eos_names, eos_needs, eos_from_material, gas_p_rule
 
   integer, parameter :: eos_ideal_gas = 1
   integer, parameter :: eos_stiffened_gas = 2
@@ -75,6 +77,21 @@ module m_eos
   end type eos_t
 
 contains
+
+  !> A gas's pressure where it is set (var: a material's p0, a body's p; in: which one): at
+  !> least 0 in an ideal gas, above -p_inf in a stiffened gas (p_inf missing: an error already).
+  !> A rule of the deck (m_deck_check hands its rule).
+  subroutine gas_p_rule(var, p, m, in, rule)
+    character(len=*), intent(in) :: var, in
+    real(wp), intent(in) :: p
+    type(material_t), intent(in) :: m
+    procedure(rule_i) :: rule
+    if (.not. is_set(p)) return
+    call rule(m%eos == 'ideal_gas' .and. p < 0.0_wp, var, 'must be >= 0 for a gas' // in &
+      // got_text(p))
+    if (m%eos == 'stiffened_gas' .and. is_set(m%p_inf)) call rule(.not. p > -m%p_inf, var, &
+      'must be > -p_inf = ' // real_text(-m%p_inf) // in // got_text(p))
+  end subroutine gas_p_rule
 
   !> The equation of state of a material (its eos and the constants it sets; the rest keep
   !> the eos_t defaults).

@@ -2,14 +2,16 @@
 !> (manual/theory.md section 4): outflow (zero gradient), symmetry and rigid (mirror, normal
 !> velocity reversed: inviscid slip wall), velocity (mirror with the normal velocity set to
 !> 2 V(t) - u, V(t) = V min(1, t / t_rise)), and the wall of an inactive (rigid-obstacle)
-!> block, which is rigid. Periodic sides are neighbour blocks, filled by m_halo.
+!> block, which is rigid. Periodic sides are neighbour blocks, filled by m_halo (so both sides
+!> of a direction are periodic or neither: bc_check, the deck's rule).
 !> Order: first every halo box without a source block is filled by clamping to the nearest
 !> interior cell (so that edges and corners hold admissible states), then the faces are
 !> applied direction by direction over the full extent of the other directions, so edges
 !> and corners at the domain boundary see the conditions of both sides.
 module m_boundary
   use m_kinds, only: wp
-  use m_text, only: choice_index
+  use m_text, only: choice_index, int_text
+  use m_errors, only: rule_i
   use m_layout, only: layout_t, block_neighbor, wall_neighbor
   use m_blocks, only: block_t
   use m_state, only: i_rho, i_mx, i_en, n_solid, stress_index
@@ -21,7 +23,7 @@ module m_boundary
   public :: bc_from_name, boundary_apply, boundary_walls, fill_ghosts
   public :: ghosts_start, ghosts_finish
   public :: ghosts_all, ghosts_flow, ghosts_level_sets
-  public :: bc_names
+  public :: bc_names, bc_check
 
   integer, parameter :: bc_outflow = 1, bc_symmetry = 2, bc_rigid = 3, bc_periodic = 4
   integer, parameter :: bc_velocity = 5
@@ -48,6 +50,27 @@ module m_boundary
   end type bc_kind_t
 
 contains
+
+  !> The deck's rule of the conditions bc_lo, bc_hi of the first ndim directions (m_deck_check
+  !> hands its rule): periodic on both sides of a direction or on neither, since a periodic
+  !> side's neighbour is the block at the other side.
+  subroutine bc_check(bc_lo, bc_hi, ndim, rule)
+    character(len=*), intent(in) :: bc_lo(3), bc_hi(3)
+    integer, intent(in) :: ndim
+    procedure(rule_i) :: rule
+    character(len=:), allocatable :: dd
+    logical :: lo_periodic, hi_periodic
+    integer :: d
+    do d = 1, ndim
+      dd = '(' // int_text(d) // ')'
+      lo_periodic = (bc_lo(d) == 'periodic')
+      hi_periodic = (bc_hi(d) == 'periodic')
+      call rule(lo_periodic .neqv. hi_periodic, 'domain ' // merge('bc_hi', 'bc_lo', &
+        lo_periodic) // dd, 'periodic on one side only: bc_lo' // dd // " = '" &
+        // trim(bc_lo(d)) // "' but bc_hi" // dd // " = '" // trim(bc_hi(d)) &
+        // "' (both or neither must be 'periodic')")
+    end do
+  end subroutine bc_check
 
   !> The condition of a deck name (one of bc_names).
   integer function bc_from_name(name) result(k)

@@ -6,13 +6,16 @@
 !> thinner than the halo joins the last whole block, so that every block can fill a
 !> neighbour's halo). Each block's arrays have its own extent; block_view gives a block its
 !> own layout (bsize = its extent), which is what the kernels take.
-!> Nothing here is of the size of the global grid: only per-block arrays.
+!> Nothing here is of the size of the global grid: only per-block arrays. The deck's rules of
+!> the cells and blocks are here too (layout_check, handed m_deck_check's rule).
 module m_layout
   use m_kinds, only: wp
+  use m_errors, only: rule_i
+  use m_text, only: int_text, real_text, got_text
   implicit none
   private
   public :: layout_t, layout_init, block_coords, block_id, block_neighbor, block_offset
-  public :: block_extent, block_view, cell_volume, active_cells, layout_blocks
+  public :: block_extent, block_view, cell_volume, active_cells, layout_blocks, layout_check
   public :: n_halo, no_neighbor, wall_neighbor
 
   integer, parameter :: n_halo = 4          !< halo depth in every active direction
@@ -196,5 +199,41 @@ contains
       if (block(d) == 0) b(d) = layout_block_size(cells(d), nd)
     end do
   end function layout_blocks
+
+  !> The deck's rules of the domain's cells, extent and blocks (m_deck_check hands its rule):
+  !> at least n_halo cells along each of the first nd directions and 1 beyond, hi > lo, a
+  !> block of 0 (chosen) or at least n_halo cells; then the blocks resolved (layout_blocks).
+  !> cells_bad: the cells are refused already (missing, unreadable); the blocks then mean
+  !> nothing and are neither checked nor resolved.
+  subroutine layout_check(cells, block, lo, hi, nd, cells_bad, rule)
+    integer, intent(in) :: cells(3), nd
+    integer, intent(inout) :: block(3)
+    real(wp), intent(in) :: lo(3), hi(3)
+    logical, intent(in) :: cells_bad
+    procedure(rule_i) :: rule
+    character(len=:), allocatable :: nd_text, dd
+    logical :: bad
+    integer :: d
+    nd_text = 'ndim = ' // int_text(nd)
+    bad = cells_bad
+    do d = 1, 3
+      dd = '(' // int_text(d) // ')'
+      call rule(d <= nd .and. cells(d) < n_halo, 'domain cells' // dd, &
+        'must be >= 4 in a direction d <= ' // nd_text // ' (a block holds at least 4 ' &
+        // 'cells: the halo is 4 deep)' // got_text(cells(d)))
+      call rule(d > nd .and. cells(d) /= 1, 'domain cells' // dd, &
+        'must be 1 in a direction d > ' // nd_text // got_text(cells(d)))
+      bad = bad .or. (d <= nd .and. cells(d) < n_halo) .or. (d > nd .and. cells(d) /= 1)
+      call rule(.not. hi(d) > lo(d), 'domain hi' // dd, 'must be > lo' // dd // ' = ' &
+        // real_text(lo(d)) // got_text(hi(d)))
+    end do
+    if (bad) return
+    ! block(d) = 0 (the default) asks for a block size chosen by layout_block_size
+    do d = 1, nd
+      call rule(block(d) /= 0 .and. block(d) < n_halo, 'domain block(' // int_text(d) // ')', &
+        'must be >= 4 cells (the halo is 4 deep; 0 = chosen for you)' // got_text(block(d)))
+    end do
+    block = layout_blocks(cells, block, nd)
+  end subroutine layout_check
 
 end module m_layout

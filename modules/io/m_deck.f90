@@ -10,8 +10,7 @@ module m_deck
   use m_errors, only: stop_collective
   use m_comm, only: comm_bcast, comm_is_root
   use m_material_library, only: library_lookup
-  use m_text, only: int_text, base_name, file_text, to_lower, edit_distance, quoted, in_list, &
-    joined
+  use m_text, only: int_text, base_name, file_text, to_lower, edit_distance, quoted, in_list, joined
   use m_deck_parse, only: deck_var_t, deck_assign_t, deck_group_t, deck_split, first_group, &
     assign_value, value_text
   use m_deck_schema, only: deck_table, group_table, group_names, var_index, fail, fail_now, &
@@ -58,45 +57,34 @@ contains
   end subroutine deck_read
 
   !> Turn each `group.var[(i)]=value` into an assignment appended to the first instance of
-  !> the group (made if absent). Unquoted string values are quoted, since the shell eats
-  !> the quotes of run.out_dir='x'.
+  !> the group (made if absent).
   subroutine apply_overrides(overrides, groups, assigns)
     character(len=*), intent(in) :: overrides(:)
     type(deck_group_t), allocatable, intent(inout) :: groups(:)
     type(deck_assign_t), allocatable, intent(inout) :: assigns(:)
-    character(len=:), allocatable :: ov, gname, lhs, name, value
-    type(deck_var_t), allocatable :: vars(:)
-    integer :: i, k, eq, dot, paren
+    character(len=:), allocatable :: ov, gname, lhs, name, value, why
+    integer :: i, eq, dot, paren
     do i = 1, size(overrides)
       ov = trim(adjustl(overrides(i)))
       eq = index(ov, '=')
       dot = index(ov(1:max(eq - 1, 0)), '.')
       lhs = trim(adjustl(ov(dot + 1:max(eq - 1, 0))))
       paren = index(lhs // '(', '(')
-      if (len(ov) == 0) then
-        cycle
-      else if (dot <= 1 .or. dot >= eq - 1) then
-        call fail('', "bad command-line override '" // ov &
-          // "' (expected group.variable=value such as run.out_dir='out/x')", '')
-        cycle
-      else if (paren <= len(lhs) .and. lhs(len(lhs):len(lhs)) /= ')') then
-        call fail('', "bad command-line override '" // ov &
-          // "' (an index is written cells(2)=100)", '')
+      if (len(ov) == 0) cycle
+      why = ''
+      if (paren <= len(lhs) .and. lhs(len(lhs):) /= ')') why = 'an index is written cells(2)=100'
+      if (dot <= 1 .or. dot >= eq - 1) why = 'expected group.variable=value such as ' &
+        // "run.out_dir='out/x'"
+      if (len(why) > 0) then
+        call fail('', "bad command-line override '" // ov // "' (" // why // ')', '')
         cycle
       end if
       gname = to_lower(trim(ov(1:dot - 1)))
       name = to_lower(trim(lhs(1:paren - 1)))
       value = trim(adjustl(ov(eq + 1:)))
       ! an unknown group or variable is reported when the group is read
-      vars = group_table(gname)
-      k = var_index(vars, name)
-      if (k > 0) then
-        if (index('ck', vars(k)%kind) > 0 .and. scan(value(1:min(1, len(value))), "'""") == 0) &
-          value = auto_quote(value)
-      end if
       if (first_group(groups, gname) == 0) groups = [groups, deck_group_t(gname, 0)]
-      assigns = [assigns, deck_assign_t(first_group(groups, gname), 0, name, lhs(paren:), &
-        value)]
+      assigns = [assigns, deck_assign_t(first_group(groups, gname), 0, name, lhs(paren:), value)]
     end do
   end subroutine apply_overrides
 
@@ -163,7 +151,7 @@ contains
     !> first: a name the group knows, a value of the variable's form, a keyword's choice.
     subroutine read_group(g, pass)
       integer, intent(in) :: g, pass
-      character(len=:), allocatable :: why, where, at
+      character(len=:), allocatable :: why, where, at, value
       integer :: k, j
       vars = pack(vars, vars%group == groups(g)%name)
       do k = 1, size(assigns)
@@ -181,7 +169,11 @@ contains
           ! replaces the deck's list, rather than only its first entries
           if (a%line == 0 .and. len(a%index) == 0 .and. associated(vars(j)%count) .and. &
             associated(vars(j)%ca)) vars(j)%ca = ''
-          why = assign_value(vars(j), a%index, a%value)
+          ! the shell eats the quotes of run.out_dir='x': a string there is quoted if it is not
+          value = a%value
+          if (a%line == 0 .and. index('ck', vars(j)%kind) > 0 .and. &
+            scan(value(1:min(1, len(value))), "'""") == 0) value = auto_quote(value)
+          why = assign_value(vars(j), a%index, value)
           if (len(why) > 0) then
             call fail(where // a%index, why // at, vars(j)%typical)
           else if (vars(j)%kind == 'k') then

@@ -6,26 +6,25 @@
 !> Choices and the form of each value were checked when it was read (m_deck).
 module m_deck_check
   use m_kinds, only: wp, name_len
-  use m_config, only: config_t, material_t, body_t, is_set, max_materials, material_index
+  use m_config, only: config_t, material_t, is_set, max_materials, material_index
   use m_material_library, only: library_lookup, library_names
   use m_yield, only: strength_problem, strength_from_material, strength_model_names, &
-    strength_model_needs
-  use m_eos, only: eos_names, eos_needs
-  use m_text, only: int_text, real_text, in_list, to_lower, got_text
+    strength_model_needs, strength_resolve, strength_rules, strength_thermal
+  use m_reaction, only: reaction_rules
+  use m_eos, only: eos_names, eos_needs, gas_p_rule
+  use m_text, only: int_text, in_list, got_text
   use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
   use m_deck_schema, only: rule, deck_table, var_index, n_deck_errors, deck_has_error, &
     deck_error_mark
   use m_numerics_defaults, only: numerics_defaults
-  use m_layout, only: n_halo, layout_blocks
-  use m_scene, only: boxes_cover, body_check
+  use m_layout, only: layout_check
+  use m_boundary, only: bc_check
+  use m_scene, only: state_needs, body_check
   implicit none
   private
   public :: deck_check
 
   character(len=*), parameter :: gas_eoses = 'ideal_gas, stiffened_gas'
-  !> the models with plastic work, which heats (Taylor-Quinney)
-  character(len=*), parameter :: plastic_models = 'perfectly_plastic, linear_hardening, ' &
-    // 'johnson_cook, viscoplastic_power_law'
   character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach, phase, ' &
     // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq, lambda'
   character(len=*), parameter :: strength_fields = 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
@@ -92,9 +91,8 @@ contains
     end function given
 
     subroutine check_domain()
-      character(len=:), allocatable :: nd_text, dd
-      integer :: d, nd
-      logical :: lo_periodic, hi_periodic, axisymmetric
+      integer :: nd
+      logical :: axisymmetric
       nd = cfg%ndim
       call rule(.not. given('domain', 'ndim'), 'domain ndim', 'missing required value')
       ! without a &domain group at all, its other required values are the same mistake
@@ -102,40 +100,16 @@ contains
       call rule(nd < 1 .or. nd > 3, 'domain ndim', 'must be 1, 2 or 3' // got_text(nd))
       ! the directions, cells and blocks mean nothing without a valid ndim
       if (deck_has_error('&domain ndim')) return
-      nd_text = 'ndim = ' // int_text(nd)
       axisymmetric = cfg%geometry == 'axisymmetric'
       call rule(axisymmetric .and. nd /= 2, 'domain geometry', "'axisymmetric' needs ndim = 2 " &
-        // '(x = r, y = z), got ' // nd_text)
+        // '(x = r, y = z), got ndim = ' // int_text(nd))
       call rule(axisymmetric .and. cfg%lo(1) < 0.0_wp, 'domain lo(1)', 'must be >= 0 in ' &
         // 'axisymmetric geometry (x is the radius)' // got_text(cfg%lo(1)))
       call rule(.not. given('domain', 'cells'), 'domain cells', 'missing required value')
       call rule(.not. given('domain', 'hi'), 'domain hi', 'missing required value')
-      do d = 1, 3
-        dd = '(' // int_text(d) // ')'
-        call rule(d <= nd .and. cfg%cells(d) < n_halo, 'domain cells' // dd, &
-          'must be >= 4 in a direction d <= ' // nd_text // ' (a block holds at least 4 ' &
-          // 'cells: the halo is 4 deep)' // got_text(cfg%cells(d)))
-        call rule(d > nd .and. cfg%cells(d) /= 1, 'domain cells' // dd, &
-          'must be 1 in a direction d > ' // nd_text // got_text(cfg%cells(d)))
-        call rule(.not. cfg%hi(d) > cfg%lo(d), 'domain hi' // dd, 'must be > lo' // dd &
-          // ' = ' // real_text(cfg%lo(d)) // got_text(cfg%hi(d)))
-      end do
-      ! block(d) = 0 (the default) asks for a block size chosen by m_layout
-      do d = 1, nd
-        call rule(cfg%block(d) /= 0 .and. cfg%block(d) < n_halo .and. .not. deck_has_error( &
-          '&domain cells'), 'domain block(' // int_text(d) // ')', 'must be >= 4 cells (the ' &
-          // 'halo is 4 deep; 0 = chosen for you)' // got_text(cfg%block(d)))
-      end do
-      if (.not. deck_has_error('&domain cells')) cfg%block = layout_blocks(cfg%cells, cfg%block, nd)
-      do d = 1, nd
-        dd = '(' // int_text(d) // ')'
-        lo_periodic = (cfg%bc_lo(d) == 'periodic')
-        hi_periodic = (cfg%bc_hi(d) == 'periodic')
-        call rule(lo_periodic .neqv. hi_periodic, 'domain ' // merge('bc_hi', 'bc_lo', &
-          lo_periodic) // dd, 'periodic on one side only: bc_lo' // dd // " = '" &
-          // trim(cfg%bc_lo(d)) // "' but bc_hi" // dd // " = '" // trim(cfg%bc_hi(d)) &
-          // "' (both or neither must be 'periodic')")
-      end do
+      call layout_check(cfg%cells, cfg%block, cfg%lo, cfg%hi, nd, &
+        deck_has_error('&domain cells'), rule)
+      call bc_check(cfg%bc_lo, cfg%bc_hi, nd, rule)
       call rule(axisymmetric .and. .not. cfg%lo(1) > 0.0_wp .and. .not. deck_has_error( &
         '&domain lo') .and. cfg%bc_lo(1) /= 'symmetry', 'domain bc_lo(1)', "must be " &
         // "'symmetry' on the axis r = 0 (lo(1) = 0, axisymmetric), got '" &
@@ -164,7 +138,7 @@ contains
     subroutine check_material(m)
       type(material_t), target, intent(inout) :: m
       type(deck_var_t), allocatable :: vars(:)
-      character(len=:), allocatable :: in_m, model, why
+      character(len=:), allocatable :: in_m, why
       integer :: k, ke, km, ks, kr, n_before, n_start
       n_start = n_deck_errors
       ! a name that could not be read: which material this is, and so its values, is unknown
@@ -183,7 +157,7 @@ contains
       if (n_deck_errors == n_start .and. ke > 0) &
         call need(vars, eos_needs(ke), "eos '" // trim(m%eos) // "'" // in_m)
       call check_allowed(vars(1:ks), in_m)
-      call gas_p_rule('material p0', m%p0, m, in_m)
+      call gas_p_rule('material p0', m%p0, m, in_m, rule)
       ! strength values (the table's lines after strength_model) without a model would be
       ! ignored without a word: refuse them
       if (len_trim(m%strength_model) == 0) then
@@ -195,32 +169,16 @@ contains
         m%strength_model = 'none'
       end if
       n_before = n_deck_errors
-      model = trim(m%strength_model)
-      km = findloc(strength_model_names, model, 1)
-      call rule(model /= 'none' .and. in_list(m%eos, gas_eoses), 'material strength_model', &
-        "'" // model // "' needs the eos of a solid (mie_gruneisen or polynomial_mie_" &
-        // "gruneisen), not '" // trim(m%eos) // "'" // in_m)
-      if (in_list(model, plastic_models) .and. .not. is_set(m%taylor_quinney)) &
-        m%taylor_quinney = 0.9_wp
-      if (model == 'johnson_cook' .and. .not. is_set(m%eps_rate0)) m%eps_rate0 = 1.0_wp
+      km = findloc(strength_model_names, m%strength_model, 1)
+      call strength_resolve(m, in_list(m%eos, gas_eoses), in_m, rule)
       if (n_deck_errors == n_before .and. km > 0) &
-        call need(vars, strength_model_needs(km), "strength_model '" // model // "'" // in_m)
-      ! a perfectly plastic solid without a yield stress is a fluid
-      if (is_set(m%yield0)) call rule(model == 'perfectly_plastic' .and. .not. m%yield0 > 0.0_wp, &
-        'material yield0', 'must be > 0.0' // in_m // got_text(m%yield0))
-      if (is_set(m%T0) .and. is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, &
-        'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // got_text(m%t_melt))
-      if (is_set(m%melt_slope)) call rule(.not. is_set(m%t_melt), 'material melt_slope', &
-        'needs t_melt, the melt temperature at rho0 (HMX: 550 K)' // in_m)
+        call need(vars, strength_model_needs(km), "strength_model '" // trim(m%strength_model) &
+          // "'" // in_m)
+      call strength_rules(m, in_m, rule)
       ! vp_m < 1 (its line): the flow stress then grows with the rate, the return has one root
       call check_allowed(vars(ks + 1:), in_m)
-      ! conduction and reaction act on the temperature; a reaction needs its heat, and a
-      ! heat needs a reaction
-      if (len_trim(m%reaction) == 0) m%reaction = 'none'
-      call rule(m%reaction /= 'none' .and. .not. is_set(m%reaction_q), 'material reaction_q', &
-        "missing required value (reaction '" // trim(m%reaction) // "' releases it)" // in_m)
-      call rule(m%reaction == 'none' .and. is_set(m%reaction_q), 'material reaction', &
-        "missing required value (reaction_q is given; HMX: 'henson')" // in_m)
+      call reaction_rules(m, in_m, rule)
+      ! conduction and reaction act on the temperature
       call rule((m%reaction /= 'none' .or. is_set(m%conductivity)) .and. .not. is_set(m%cv), &
         'material cv', 'missing required value (conduction and reaction need the ' &
         // 'temperature)' // in_m)
@@ -254,42 +212,24 @@ contains
     end subroutine use_material
 
     !> What a gas in use needs besides its eos constants, asked for only where the scene
-    !> uses it: cv where a temperature is used (the output field T, a body given by T; left
-    !> out of the default fields otherwise); rho0 (p0) where the gas fills cells whose state
-    !> no body gives: a body of it without rho (without p or T), the base material outside
-    !> boxes of it that tile the domain, and every phase of a scene with level sets.
-    !> temperature: whether every gas in use has a cv.
+    !> uses it (m_scene's state_needs): cv where a temperature is used (the output field T, a
+    !> body given by T; left out of the default fields otherwise), rho0 and p0 where the scene
+    !> takes the gas's own state. temperature: whether every gas in use has a cv.
     subroutine check_gas_needs(temperature)
       logical, intent(out) :: temperature
-      character(len=:), allocatable :: in_m, why_t, why_rho, why_p, what
-      logical :: fields_given, interfaces
-      integer :: k, i
-      fields_given = given('output', 'fields')
-      interfaces = any(cfg%bodies(1:cfg%n_bodies)%material /= cfg%base_material)
+      character(len=:), allocatable :: why_t, why_rho, why_p, what
+      integer :: k
       temperature = .true.
       do k = 1, cfg%n_materials
         associate(m => cfg%materials(k))
           if (.not. in_list(m%eos, gas_eoses) .or. .not. material_used(m%name)) cycle
-          in_m = " in material '" // trim(m%name) // "'"
-          what = "missing required value for eos '" // trim(m%eos) // "'" // in_m
+          what = "missing required value for eos '" // trim(m%eos) // "' in material '" &
+            // trim(m%name) // "'"
           why_t = ''
-          why_rho = ''
-          if (fields_given .and. any(cfg%fields(1:cfg%n_fields) == 'T')) &
+          if (given('output', 'fields') .and. any(cfg%fields(1:cfg%n_fields) == 'T')) &
             why_t = 'the output field T'
-          if (interfaces) why_rho = 'the rest state of a scene with level sets'
-          ! (the boxes of the base material only set its initial state)
-          if (m%name == cfg%base_material .and. .not. boxes_cover(cfg%bodies(1:cfg%n_bodies), &
-            m%name, cfg%ndim, cfg%lo, cfg%hi)) why_rho = 'the base material outside its bodies'
-          why_p = why_rho
-          do i = 1, cfg%n_bodies
-            associate(b => cfg%bodies(i))
-              if (b%material /= m%name) cycle
-              if (is_set(b%T)) why_t = "body '" // trim(b%name) // "', given by T"
-              if (.not. is_set(b%rho)) why_rho = "body '" // trim(b%name) // "' without rho"
-              if (.not. is_set(b%p) .and. .not. is_set(b%T)) &
-                why_p = "body '" // trim(b%name) // "' without p or T"
-            end associate
-          end do
+          call state_needs(cfg%bodies(1:cfg%n_bodies), m%name, cfg%base_material, cfg%ndim, &
+            cfg%lo, cfg%hi, why_rho, why_p, why_t)
           call rule(.not. is_set(m%cv) .and. len(why_t) > 0, 'material cv', what // ' (' &
             // why_t // ' needs a temperature)')
           if (.not. is_set(m%cv)) temperature = .false.
@@ -319,10 +259,9 @@ contains
           // 'is off, so there is neither plastic heating nor thermal softening (leave thermal ' &
           // 'out)')
         call switch('thermal', cfg%thermal, cfg%strength .and. any(used .and. &
-          (m%strength_model == 'johnson_cook' .or. (in_list(m%strength_model, plastic_models) &
-          .and. m%taylor_quinney > 0.0_wp))), 'softens with temperature (johnson_cook) or heats ' &
-          // 'by plastic work (taylor_quinney > 0) (leave thermal out: it is on exactly when a ' &
-          // 'material needs it)')
+          strength_thermal(m)), 'softens with temperature (johnson_cook) or heats by plastic ' &
+          // 'work (taylor_quinney > 0) (leave thermal out: it is on exactly when a material ' &
+          // 'needs it)')
         call switch('heat_conduction', cfg%heat_conduction, any(used .and. &
           is_set(m%conductivity)), 'has a conductivity (HMX: 0.4 W/(m K))')
         call switch('reaction', cfg%reaction, any(used .and. m%reaction /= 'none' .and. &
@@ -346,8 +285,7 @@ contains
       logical, intent(inout) :: on
       logical, intent(in) :: needed
       if (.not. given('physics', name)) on = needed
-      call rule(on .and. .not. needed, 'physics ' // name, '.true. but no material in use ' &
-        // why)
+      call rule(on .and. .not. needed, 'physics ' // name, '.true. but no material in use ' // why)
     end subroutine switch
 
     !> Whether the base material or a body uses the material called name.
@@ -382,7 +320,7 @@ contains
           call rule(.not. b%rho > 0.0_wp, 'body rho', 'must be > 0' // in_b // got_text(b%rho))
           if (is_set(b%T)) call rule(.not. b%T > 0.0_wp, 'body T', 'must be > 0' // in_b &
             // got_text(b%T))
-          if (.not. is_set(b%T)) call gas_p_rule('body p', b%p, m, in_b)
+          if (.not. is_set(b%T)) call gas_p_rule('body p', b%p, m, in_b, rule)
         end associate
       end do
     end subroutine check_bodies
@@ -439,19 +377,6 @@ contains
         // in // got)
     end do
   end subroutine check_allowed
-
-  !> A gas's pressure where it is set (var: a material's p0, a body's p; in: which one): at
-  !> least 0 in an ideal gas, above -p_inf in a stiffened gas (p_inf missing: an error already).
-  subroutine gas_p_rule(var, p, m, in)
-    character(len=*), intent(in) :: var, in
-    real(wp), intent(in) :: p
-    type(material_t), intent(in) :: m
-    if (.not. is_set(p)) return
-    call rule(m%eos == 'ideal_gas' .and. p < 0.0_wp, var, 'must be >= 0 for a gas' // in &
-      // got_text(p))
-    if (m%eos == 'stiffened_gas' .and. is_set(m%p_inf)) call rule(.not. p > -m%p_inf, var, &
-      'must be > -p_inf = ' // real_text(-m%p_inf) // in // got_text(p))
-  end subroutine gas_p_rule
 
   !> A material's or body's name: letters, digits, _ - . only, and none before it the same.
   subroutine check_name(group, name, before)

@@ -29,8 +29,7 @@ module m_deck_schema
   ! the choices that no module maps to constants (they are compared as names)
   character(len=12), parameter :: geometry_names(2) = [character(len=12) :: 'cartesian', &
     'axisymmetric']
-  character(len=8), parameter :: surface_flux_names(2) = [character(len=8) :: 'material', &
-    'llf']
+  character(len=8), parameter :: surface_flux_names(2) = [character(len=8) :: 'material', 'llf']
   character(len=11), parameter :: conserve_names(4) = [character(len=11) :: 'mass_energy', &
     'mass', 'none', 'cut_cell']
   character(len=14), parameter :: shape_names(7) = [character(len=14) :: 'box', 'sphere', &
@@ -81,8 +80,7 @@ contains
     call t%add('overlap', c%overlap, '.true.', 'compute blocks while halo messages travel')
     t%g = 'domain'
     call t%add('ndim', c%ndim, '2', 'number of dimensions, 1 to 3')
-    call t%add('geometry', c%geometry, "'cartesian'", 'axisymmetric: x = r, y = z', &
-      geometry_names)
+    call t%add('geometry', c%geometry, "'cartesian'", 'axisymmetric: x = r, y = z', geometry_names)
     call t%add('lo', c%lo, '0.0, 0.0, 0.0', 'low corner of the domain (m)')
     call t%add('hi', c%hi, '1.0, 0.5, 1.0', 'high corner of the domain (m)')
     call t%add('cells', c%cells, '200, 100, 1', 'cells along each direction')

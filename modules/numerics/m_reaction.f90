@@ -8,12 +8,16 @@
 !> heats Q1 < 0 (endothermic), Q2, Q3; at frozen T the chain is linear and is advanced by
 !> the exponential of its rate matrix (eq. 8.3). The module owns the parameters (reaction_t)
 !> and these pointwise formulas and row kernels; where the progress lives in the state and
-!> when the source is applied is the solver's (m_gfm_stage). No MPI, no I/O, no allocation.
+!> when the source is applied is the solver's (m_gfm_stage). The deck's rules of a reaction
+!> are here too (reaction_rules, handed m_deck_check's rule). No MPI, no I/O, no allocation.
 module m_reaction
   use m_kinds, only: wp, name_len
   use m_text, only: choice_index
+  use m_config, only: material_t, is_set
+  use m_errors, only: rule_i
   implicit none
   private
+  public :: reaction_rules
   public :: reaction_t, reaction_names, reaction_none, reaction_henson
   public :: reaction_from_name, arrhenius_rate, burn_step, reaction_row
   public :: tarver3_t, tarver3_hmx, tarver3_step
@@ -43,6 +47,19 @@ module m_reaction
   end type tarver3_t
 
 contains
+
+  !> A material's reaction as the deck gives it (m_deck_check, handing its rule): none
+  !> when left empty; a reaction needs its heat, and a heat a reaction.
+  subroutine reaction_rules(m, in_m, rule)
+    type(material_t), intent(inout) :: m
+    character(len=*), intent(in) :: in_m
+    procedure(rule_i) :: rule
+    if (len_trim(m%reaction) == 0) m%reaction = 'none'
+    call rule(m%reaction /= 'none' .and. .not. is_set(m%reaction_q), 'material reaction_q', &
+      "missing required value (reaction '" // trim(m%reaction) // "' releases it)" // in_m)
+    call rule(m%reaction == 'none' .and. is_set(m%reaction_q), 'material reaction', &
+      "missing required value (reaction_q is given; HMX: 'henson')" // in_m)
+  end subroutine reaction_rules
 
   !> The model of a deck name; 'none' (or empty) is no reaction.
   function reaction_from_name(name, q) result(rt)

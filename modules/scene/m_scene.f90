@@ -4,7 +4,8 @@
 !> manual/interfaces.md), and whether a rigid body covers whole blocks (which are then not
 !> computed and act as exact rigid walls for their neighbours, m_boundary), and the motion of
 !> a moving rigid body, whose level set is its distance at the time of each stage; whether
-!> the boxes of a material tile the domain (m_deck_check: then it needs no rest state). The
+!> the boxes of a material tile the domain, and which state of a material the scene takes
+!> from the material itself (state_needs: m_deck_check asks for it). The
 !> generated shapes (random spheres, a random field, Voronoi grains: manual/scenes.md) are
 !> made once at set-up by scene_generate into a made_t per body (the deck's body_t holds
 !> only what the deck says), on every rank alike; each is one body, with one level set, but
@@ -12,7 +13,7 @@
 !> holds the deck's rules for a body's shape and generator values (m_deck_check calls it).
 module m_scene
   use m_kinds, only: wp
-  use m_config, only: body_t
+  use m_config, only: body_t, is_set
   use m_errors, only: stop_collective, rule_i
   use m_text, only: int_text, real_text, got_text
   use m_scene_generate, only: random_spheres, spheres_distance
@@ -24,7 +25,7 @@ module m_scene
   implicit none
   private
   public :: inside_body, cell_centre, rigid_block_status, body_distance, rigid_bodies_move
-  public :: boxes_cover, scene_generate, body_check, made_t
+  public :: boxes_cover, state_needs, scene_generate, body_check, made_t
 
   !> What scene_generate made of a body (nothing for a plain shape).
   type :: made_t
@@ -42,6 +43,36 @@ contains
     real(wp) :: x(3)
     x = lay%lo + (real(offset + [i, j, k], wp) - 0.5_wp) * lay%dx
   end function cell_centre
+
+  !> Why the scene takes the state of the material called name from the material itself (''
+  !> where it does not): rho0 (p0) where no body gives it, that is a body of it without rho
+  !> (without p or T), the base material outside boxes of it that tile the domain, and every
+  !> phase of a scene with level sets; a temperature for a body of it given by T (why_t is
+  !> left as it was otherwise).
+  subroutine state_needs(bodies, name, base, ndim, lo, hi, why_rho, why_p, why_t)
+    type(body_t), intent(in) :: bodies(:)
+    character(len=*), intent(in) :: name, base
+    integer, intent(in) :: ndim
+    real(wp), intent(in) :: lo(3), hi(3)
+    character(len=:), allocatable, intent(out) :: why_rho, why_p
+    character(len=:), allocatable, intent(inout) :: why_t
+    integer :: i
+    why_rho = ''
+    if (any(bodies%material /= base)) why_rho = 'the rest state of a scene with level sets'
+    ! (the boxes of the base material only set its initial state)
+    if (name == base .and. .not. boxes_cover(bodies, name, ndim, lo, hi)) &
+      why_rho = 'the base material outside its bodies'
+    why_p = why_rho
+    do i = 1, size(bodies)
+      associate(b => bodies(i))
+        if (b%material /= name) cycle
+        if (is_set(b%T)) why_t = "body '" // trim(b%name) // "', given by T"
+        if (.not. is_set(b%rho)) why_rho = "body '" // trim(b%name) // "' without rho"
+        if (.not. is_set(b%p) .and. .not. is_set(b%T)) &
+          why_p = "body '" // trim(b%name) // "' without p or T"
+      end associate
+    end do
+  end subroutine state_needs
 
   !> Whether the boxes among bodies that are of material `material` cover the domain lo..hi
   !> (its first ndim directions): the centre of every cell of the grid that the boxes' faces

@@ -17,14 +17,18 @@
 !> strength at and above T_melt (sigma_y = 0) when T_melt is given. The melt temperature may
 !> rise with compression (Kraut-Kennedy form, melt_temperature): T_melt(rho) = T_melt0 (1 +
 !> a (1 - rho0 / rho)), a = melt_slope (0: a constant T_melt). The module owns the
-!> parameters (strength_t) and the pointwise formulas; the return mapping lives in
-!> m_plasticity, and nothing here allocates, communicates or writes.
+!> parameters (strength_t), the pointwise formulas and the deck's rules of a model's values
+!> (strength_resolve, strength_rules: m_deck_check hands them its rule); the return mapping
+!> lives in m_plasticity, and nothing here allocates, communicates or writes.
 module m_yield
   use m_kinds, only: wp, line_len
   use m_config, only: material_t, is_set
+  use m_errors, only: rule_i
+  use m_text, only: real_text, got_text
   implicit none
   private
   public :: strength_t, strength_from_material, strength_model_from_name, strength_problem
+  public :: strength_resolve, strength_rules, strength_thermal
   public :: strength_model_names, strength_model_needs
   public :: yield_stress, yield_stress_slopes, viscoplastic_rate, melt_temperature
   public :: strength_none, strength_elastic, strength_perfectly_plastic
@@ -102,6 +106,50 @@ contains
     if (is_set(mat%vp_n)) st%vp_n = mat%vp_n
     if (is_set(mat%taylor_quinney)) st%taylor_quinney = mat%taylor_quinney
   end function strength_from_material
+
+  !> A material's strength model as the deck gives it (m_deck_check, handing its rule): it
+  !> needs the eos of a solid (gas: the eos is a gas's); where the deck leaves them out, a
+  !> plastic model heats with taylor_quinney = 0.9, johnson_cook's eps_rate0 is 1/s.
+  subroutine strength_resolve(m, gas, in_m, rule)
+    type(material_t), intent(inout) :: m
+    logical, intent(in) :: gas
+    character(len=*), intent(in) :: in_m
+    procedure(rule_i) :: rule
+    call rule(m%strength_model /= 'none' .and. gas, 'material strength_model', "'" &
+      // trim(m%strength_model) // "' needs the eos of a solid (mie_gruneisen or polynomial_" &
+      // "mie_gruneisen), not '" // trim(m%eos) // "'" // in_m)
+    if (plastic(m) .and. .not. is_set(m%taylor_quinney)) m%taylor_quinney = 0.9_wp
+    if (m%strength_model == 'johnson_cook' .and. .not. is_set(m%eps_rate0)) m%eps_rate0 = 1.0_wp
+  end subroutine strength_resolve
+
+  !> The deck's rules of a strength model's values that involve another value (after the
+  !> values it needs were asked for).
+  subroutine strength_rules(m, in_m, rule)
+    type(material_t), intent(in) :: m
+    character(len=*), intent(in) :: in_m
+    procedure(rule_i) :: rule
+    ! a perfectly plastic solid without a yield stress is a fluid
+    if (is_set(m%yield0)) call rule(m%strength_model == 'perfectly_plastic' .and. .not. &
+      m%yield0 > 0.0_wp, 'material yield0', 'must be > 0.0' // in_m // got_text(m%yield0))
+    if (is_set(m%T0) .and. is_set(m%t_melt)) call rule(.not. m%t_melt > m%T0, &
+      'material t_melt', 'must be > T0 = ' // real_text(m%T0) // in_m // got_text(m%t_melt))
+    if (is_set(m%melt_slope)) call rule(.not. is_set(m%t_melt), 'material melt_slope', &
+      'needs t_melt, the melt temperature at rho0 (HMX: 550 K)' // in_m)
+  end subroutine strength_rules
+
+  !> Whether m's model needs the temperature: it softens with it (johnson_cook) or heats by
+  !> plastic work (a plastic model with taylor_quinney > 0).
+  elemental logical function strength_thermal(m)
+    type(material_t), intent(in) :: m
+    strength_thermal = m%strength_model == 'johnson_cook' .or. (plastic(m) .and. &
+      m%taylor_quinney > 0.0_wp)
+  end function strength_thermal
+
+  !> Whether m's model yields: it does plastic work.
+  elemental logical function plastic(m)
+    type(material_t), intent(in) :: m
+    plastic = strength_model_from_name(m%strength_model) >= strength_perfectly_plastic
+  end function plastic
 
   !> '' when the parameters are usable, else what is wrong, why, and a typical value
   !> (for the deck checker, which names the material).
