@@ -10,7 +10,7 @@ module m_gfm_cut_box
   use m_kinds, only: wp
   implicit none
   private
-  public :: box_union, box_nonzero, box_whole, stage_content, put_states
+  public :: box_union, box_nonzero, box_below, box_whole, stage_content, put_states
 
 contains
 
@@ -40,28 +40,48 @@ contains
   !> NaN is not zero)
   function box_nonzero(c) result(box)
     real(wp), intent(in) :: c(:, :, :, :)
-    integer :: box(2, 3), i, j, k, m
-    logical :: hit
-    box(1, :) = shape(c(:, :, :, 1)) + 1
-    box(2, :) = 0
-    do m = 1, size(c, 4)
-      do k = 1, size(c, 3)
-        do j = 1, size(c, 2)
-          hit = .false.
-          do i = 1, size(c, 1)
-            hit = hit .or. .not. abs(c(i, j, k, m)) <= 0.0_wp
-          end do
-          if (.not. hit) cycle
-          do i = 1, size(c, 1)
-            if (abs(c(i, j, k, m)) <= 0.0_wp) cycle
-            box(:, 1) = [min(box(1, 1), i), max(box(2, 1), i)]
-          end do
-          box(:, 2) = [min(box(1, 2), j), max(box(2, 2), j)]
-          box(:, 3) = [min(box(1, 3), k), max(box(2, 3), k)]
-        end do
-      end do
+    integer :: box(2, 3), m
+    box = box_where(c(:, :, :, 1), .false.)
+    do m = 2, size(c, 4)
+      box = box_union(box, box_where(c(:, :, :, m), .false.))
     end do
   end function box_nonzero
+
+  !> the smallest box of the cells where a < 0
+  function box_below(a) result(box)
+    real(wp), intent(in) :: a(:, :, :)
+    integer :: box(2, 3)
+    box = box_where(a, .true.)
+  end function box_below
+
+  !> the smallest box of the cells where a < 0 (below) or a is not zero (else); one pass
+  !> along the rows
+  function box_where(a, below) result(box)
+    real(wp), intent(in) :: a(:, :, :)
+    logical, intent(in) :: below
+    integer :: box(2, 3), i, j, k
+    logical :: hit(size(a, 1)), any_hit
+    box(1, :) = shape(a) + 1
+    box(2, :) = 0
+    do k = 1, size(a, 3)
+      do j = 1, size(a, 2)
+        if (below) then
+          hit = a(:, j, k) < 0.0_wp
+        else
+          hit = .not. abs(a(:, j, k)) <= 0.0_wp
+        end if
+        any_hit = .false.
+        do i = 1, size(a, 1)
+          any_hit = any_hit .or. hit(i)
+        end do
+        if (.not. any_hit) cycle
+        box(1, 1) = min(box(1, 1), findloc(hit, .true., dim=1))
+        box(2, 1) = max(box(2, 1), findloc(hit, .true., dim=1, back=.true.))
+        box(:, 2) = [min(box(1, 2), j), max(box(2, 2), j)]
+        box(:, 3) = [min(box(1, 3), k), max(box(2, 3), k)]
+      end do
+    end do
+  end function box_where
 
   !> One variable's content c after a stage from the step start's c0 and the rate r (first:
   !> the first stage, c0 + dt r; else a c0 + (1 - a) (c + dt r)), and its copy u. Beyond the

@@ -14,6 +14,7 @@ module m_gfm_cut_geometry
   use m_levelset_cut, only: levelset_cut
   use m_gfm_cut_cells, only: full
   use m_gfm_cut_work, only: cut_work_t, fit_work
+  use m_gfm_cut_box, only: box_below
   implicit none
   private
   public :: cut_block_geometry
@@ -102,14 +103,11 @@ contains
     !> phi (over the padded block) is < 0; in axisymmetry every r (r0 is the block's)
     subroutine cut_box(phi)
       real(wp), intent(in) :: phi(:, :, :)
-      integer :: lo(3), hi(3), dd
+      integer :: below(2, 3)
       ! (phi's index is the padded cell's + e + g1)
-      do dd = 1, 3
-        lo(dd) = phi_low(phi, dd)
-        hi(dd) = phi_high(phi, dd)
-      end do
-      box(1, :) = max(lo - e - 2 * g1, 1 - e)
-      box(2, :) = min(hi - e, n + e)
+      below = box_below(phi)
+      box(1, :) = max(below(1, :) - e - 2 * g1, 1 - e)
+      box(2, :) = min(below(2, :) - e, n + e)
       if (any(box(1, :) > box(2, :))) return
       if (lay%axisymmetric) box(:, 1) = [1 - e(1), n(1) + e(1)]
       associate (b1 => box(1, :), b2 => box(2, :))
@@ -164,36 +162,5 @@ contains
       end associate
     end subroutine extend
   end subroutine cut_block_geometry
-
-  !> the first index along d of a cell with phi < 0 (size + 1 when none)
-  integer function phi_low(phi, d) result(i)
-    real(wp), intent(in) :: phi(:, :, :)
-    integer, intent(in) :: d
-    do i = 1, size(phi, d)
-      if (layer_wet(phi, d, i)) return
-    end do
-  end function phi_low
-
-  !> the last index along d of a cell with phi < 0 (0 when none)
-  integer function phi_high(phi, d) result(i)
-    real(wp), intent(in) :: phi(:, :, :)
-    integer, intent(in) :: d
-    do i = size(phi, d), 1, -1
-      if (layer_wet(phi, d, i)) return
-    end do
-  end function phi_high
-
-  logical function layer_wet(phi, d, i)
-    real(wp), intent(in) :: phi(:, :, :)
-    integer, intent(in) :: d, i
-    select case (d)
-    case (1)
-      layer_wet = any(phi(i, :, :) < 0.0_wp)
-    case (2)
-      layer_wet = any(phi(:, i, :) < 0.0_wp)
-    case default
-      layer_wet = any(phi(:, :, i) < 0.0_wp)
-    end select
-  end function layer_wet
 
 end module m_gfm_cut_geometry
