@@ -37,10 +37,11 @@ module m_gfm_cut
   use m_gfm_cut_close, only: relax_closing
   use m_gfm_cut_geometry, only: cut_block_geometry
   use m_gfm_cut_work, only: cut_work_t, fit_work
+  use m_gfm_cut_box, only: box_union, box_nonzero, box_whole, stage_content, put_states
   implicit none
   private
   public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update, cut_content
-  public :: cut_strand, cut_scalars
+  public :: cut_strand, cut_scalars, cut_boxes
 
   !> A block's fractions over the padded block less its outer layer (for the mixing).
   type :: fraction_t
@@ -75,6 +76,11 @@ module m_gfm_cut
     real(wp) :: held = 0.0_wp                     !< drained full cells given a cut cell's
                                                   !< density (cell-stages)
     type(cut_work_t) :: work                      !< scratch of the stage's passes (any block)
+    !> (2, 3, block) boxes (m_gfm_cut_box) of this stage: the cells beyond which the content
+    !> c is zero (boxed: made by cut_update, which scans c0 at a step's first stage), the
+    !> cells whose rate phase_rhs computed (beyond: +0), the cells the geometry cut
+    integer, allocatable :: box(:, :, :), rate_box(:, :, :), wet_box(:, :, :)
+    logical, allocatable :: boxed(:)
   end type cut_t
 
 contains
@@ -126,7 +132,8 @@ contains
 
   !> The geometry of the cut phase on block blk from its composite level set bigphi (over
   !> the padded block): the interior faces' apertures and fractions into cut%faces(b), and
-  !> the fractions alpha_e over the padded block less its outer layer (for the mixing).
+  !> the fractions alpha_e over the padded block less its outer layer (for the mixing); the
+  !> block's cells that may be wet into cut%wet_box.
   subroutine cut_geometry(cut, b, blk, bigphi, open_side, alpha_e)
     type(cut_t), intent(inout) :: cut
     integer, intent(in) :: b
@@ -134,15 +141,20 @@ contains
     real(wp), intent(in) :: bigphi(:, :, :)
     logical, intent(in) :: open_side(2, 3)   !< the domain's outflow sides
     real(wp), allocatable, intent(inout) :: alpha_e(:, :, :)
+    integer :: box(2, 3)
     call cut_block_geometry(cut%work, blk%lay, blk%offset, blk%n, bigphi, open_side, &
-      cut%faces(b), alpha_e)
+      cut%faces(b), alpha_e, box)
+    call cut_boxes(cut, size(cut%c, 5))
+    cut%wet_box(1, :, b) = max(box(1, :), 1)
+    cut%wet_box(2, :, b) = min(box(2, :), blk%n)
   end subroutine cut_geometry
 
   !> Content into states on block blk (number b), after the halo exchange: q's phase
   !> variables hold the content C over the padded block; the small cells are mixed, the
   !> interior's content kept in cut%c and its states U = C / alpha put into q. failed: a
-  !> state with rho <= 0 or an energy that is not finite.
-  subroutine cut_open(cut, b, blk, ph, alpha_e, open_side, final, failed, bigphi, owner)
+  !> state with rho <= 0 or an energy that is not finite. Beyond box (m_gfm_cut_box) every
+  !> cell is dry and its content +0 in q and in cut%c: it takes the step start's state.
+  subroutine cut_open(cut, b, blk, ph, alpha_e, open_side, final, failed, bigphi, owner, box)
     type(cut_t), intent(inout) :: cut
     integer, intent(in) :: b
     type(block_t), intent(inout) :: blk
@@ -153,6 +165,7 @@ contains
     logical, intent(inout) :: failed
     real(wp), intent(in) :: bigphi(:, :, :)   !< the phase's level set over the padded block
     integer, intent(in) :: owner(:, :, :)     !< whose surface (ls_region; 0: a void's)
+    integer, intent(in) :: box(2, 3)
     real(wp), allocatable :: vol(:)
     integer :: kind(blk%n(1), blk%n(2), blk%n(3))
     logical :: member(blk%n(1), blk%n(2), blk%n(3))
@@ -188,9 +201,10 @@ contains
       ! fill and m_gfm's rest state replace; its content is kept in cut%c); a cut cell's
       ! below
       ! (each cell's kind once: 0 the start's state, 1 full, 2 cut; then variable by variable)
-      do k = 1, n(3)
-        do j = 1, n(2)
-          do i = 1, n(1)
+      kind = 0
+      do k = box(1, 3), box(2, 3)
+        do j = box(1, 2), box(2, 2)
+          do i = box(1, 1), box(2, 1)
             kind(i, j, k) = 0
             if (alpha(i, j, k) > 0.0_wp .and. cut%c(i, j, k, i_rho, b) > 0.0_wp) then
               kind(i, j, k) = merge(2, 1, alpha(i, j, k) < full)
@@ -203,9 +217,9 @@ contains
       ! material body drifts ahead of its content, theory.md 7c) takes a cut cell's density,
       ! so that the drift stays a partly filled cell rather than a tension no material holds;
       ! counted at every stage (history.csv cut_held_cells)
-      do k = 1, n(3)
-        do j = 1, n(2)
-          do i = 1, n(1)
+      do k = box(1, 3), box(2, 3)
+        do j = box(1, 2), box(2, 2)
+          do i = box(1, 1), box(2, 1)
             if (kind(i, j, k) /= 1) cycle
             if (.not. beside_surface([i, j, k])) cycle
             if (sounds(cut%c(i, j, k, i_rho, b), cut%c(i, j, k, 1:nf, b))) cycle
@@ -216,16 +230,21 @@ contains
       end do
       do m = 1, nf
         if (final) then
-          where (.not. alpha_e(1+e(1):n(1)+e(1), 1+e(2):n(2)+e(2), 1+e(3):n(3)+e(3)) > 0.0_wp) &
-            cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = 0.0_wp
+          do k = box(1, 3), box(2, 3)
+            do j = box(1, 2), box(2, 2)
+              where (.not. alpha_e(box(1, 1)+e(1):box(2, 1)+e(1), j + e(2), k + e(3)) > 0.0_wp) &
+                cut%c(box(1, 1):box(2, 1), j, k, m, b) = 0.0_wp
+            end do
+          end do
         end if
-        call put_states(kind, alpha_e(1+e(1):n(1)+e(1), 1+e(2):n(2)+e(2), 1+e(3):n(3)+e(3)), &
+        call put_states(box, kind, &
+          alpha_e(1+e(1):n(1)+e(1), 1+e(2):n(2)+e(2), 1+e(3):n(3)+e(3)), &
           cut%c(1:n(1), 1:n(2), 1:n(3), m, b), blk%q0(:, :, :, lo + m - 1), &
           q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
       end do
-      do k = 1, n(3)
-        do j = 1, n(2)
-          do i = 1, n(1)
+      do k = box(1, 3), box(2, 3)
+        do j = box(1, 2), box(2, 2)
+          do i = box(1, 1), box(2, 1)
             if (kind(i, j, k) == 2) then
               ! a cut cell (or a drained full cell): its content per mass at the density of
               ! the material beside it
@@ -281,12 +300,14 @@ contains
             end do
           end do
         end do
+        ! (beyond the box both are +0 already, and a dry cell there has nothing to count)
         do mm = 1, nf
-          cut%c(1:n(1), 1:n(2), 1:n(3), mm, b) = cq(1:n(1), 1:n(2), 1:n(3), mm)
+          cut%c(box(1, 1):box(2, 1), box(1, 2):box(2, 2), box(1, 3):box(2, 3), mm, b) = &
+            cq(box(1, 1):box(2, 1), box(1, 2):box(2, 2), box(1, 3):box(2, 3), mm)
         end do
-        do kk = 1, n(3)
-          do jj = 1, n(2)
-            do ii = 1, n(1)
+        do kk = box(1, 3), box(2, 3)
+          do jj = box(1, 2), box(2, 2)
+            do ii = box(1, 1), box(2, 1)
               r = root(:, ii, jj, kk)
               if (.not. alpha(ii, jj, kk) > 0.0_wp) then
                 ! empty: what content it still holds found no wet neighbour (cut_donate); it
@@ -418,25 +439,6 @@ contains
     end function admissible
   end subroutine cut_open
 
-  !> One variable's states u of the full cells (kind 1: content c over fraction alpha) and
-  !> of the cells without material (kind 0: the step start's, u0); the cut cells' (kind 2)
-  !> are left. (Every cell is written and no fraction but a full cell's divides, so that
-  !> the loop runs without branches.)
-  subroutine put_states(kind, alpha, c, u0, u)
-    integer, intent(in) :: kind(:, :, :)
-    real(wp), intent(in) :: alpha(:, :, :), c(:, :, :), u0(:, :, :)
-    real(wp), intent(inout) :: u(:, :, :)
-    integer :: i, j, k
-    do k = 1, size(u, 3)
-      do j = 1, size(u, 2)
-        do i = 1, size(u, 1)
-          u(i, j, k) = merge(c(i, j, k) / merge(alpha(i, j, k), 1.0_wp, kind(i, j, k) == 1), &
-            merge(u0(i, j, k), u(i, j, k), kind(i, j, k) == 0), kind(i, j, k) == 1)
-        end do
-      end do
-    end do
-  end subroutine put_states
-
   !> After the stage update of block b: the phase's content C = a C0 + b (C + dt R) (the
   !> TVD Runge-Kutta weights of the stage), R the content rate that euler_rhs gave with the
   !> cut faces (in rhs), C0 the content at the step's start (the last open of the step
@@ -454,38 +456,38 @@ contains
     n = blk%n
     a = 0.0_wp
     if (stage > 1) a = rk_blend(stage, order)
+    call cut_boxes(cut, size(cut%c, 5))
+    ! the content's box: at a step's first stage that of c0 (a restart, a rebalance or a
+    ! block that woke may have brought it), then what the stages and opens added
+    if (stage == 1) then
+      cut%box(:, :, b) = box_nonzero(cut%c0(1:n(1), 1:n(2), 1:n(3), :, b))
+    else if (.not. cut%boxed(b)) then
+      cut%box(:, :, b) = box_whole(n)
+    end if
+    cut%box(:, :, b) = box_union(cut%box(:, :, b), cut%rate_box(:, :, b))
+    cut%boxed(b) = .true.
     ! (variable by variable, the content and q's copy of it in one pass)
     do m = 1, ph%nflow
-      call stage_content(stage == 1, a, dt, cut%c0(1:n(1), 1:n(2), 1:n(3), m, b), &
-        blk%rhs(:, :, :, lo + m - 1), cut%c(1:n(1), 1:n(2), 1:n(3), m, b), &
-        blk%q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
+      call stage_content(stage == 1, a, dt, cut%box(:, :, b), &
+        cut%c0(1:n(1), 1:n(2), 1:n(3), m, b), blk%rhs(:, :, :, lo + m - 1), &
+        cut%c(1:n(1), 1:n(2), 1:n(3), m, b), blk%q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
     end do
   end subroutine cut_update
 
-  !> One variable's content c after a stage from the step start's c0 and the rate r (first:
-  !> the first stage, c0 + dt r; else a c0 + (1 - a) (c + dt r)), and its copy u.
-  subroutine stage_content(first, a, dt, c0, r, c, u)
-    logical, intent(in) :: first
-    real(wp), intent(in) :: a, dt, c0(:, :, :), r(:, :, :)
-    real(wp), intent(inout) :: c(:, :, :)
-    real(wp), intent(out) :: u(:, :, :)
-    integer :: i, j, k
-    do k = 1, size(c, 3)
-      do j = 1, size(c, 2)
-        if (first) then
-          do i = 1, size(c, 1)
-            c(i, j, k) = c0(i, j, k) + dt * r(i, j, k)
-            u(i, j, k) = c(i, j, k)
-          end do
-        else
-          do i = 1, size(c, 1)
-            c(i, j, k) = a * c0(i, j, k) + (1.0_wp - a) * (c(i, j, k) + dt * r(i, j, k))
-            u(i, j, k) = c(i, j, k)
-          end do
-        end if
-      end do
-    end do
-  end subroutine stage_content
+  !> The boxes sized for nb blocks (anew, not boxed, after the blocks changed: a rebalance).
+  subroutine cut_boxes(cut, nb)
+    type(cut_t), intent(inout) :: cut
+    integer, intent(in) :: nb
+    if (allocated(cut%boxed)) then
+      if (size(cut%boxed) == nb) return
+      deallocate(cut%box, cut%rate_box, cut%wet_box, cut%boxed)
+    end if
+    allocate(cut%box(2, 3, nb), cut%rate_box(2, 3, nb), cut%wet_box(2, 3, nb), cut%boxed(nb))
+    cut%box = 0
+    cut%rate_box = 0
+    cut%wet_box = 0
+    cut%boxed = .false.
+  end subroutine cut_boxes
 
   !> After the ghost fill of block blk (number b) at stage `stage`: a wet cell whose centre
   !> lies outside the surface holds a ghost state for the stencils, but its transported

@@ -4,7 +4,7 @@
 !> and the exchange of content where cells fill or empty between steps (cut_donate). The
 !> stage update that uses them is m_gfm_cut.
 module m_gfm_cut_cells
-  use m_kinds, only: wp
+  use m_kinds, only: wp, i8
   use m_layout, only: layout_t, cell_volume
   use m_blocks, only: block_t
   use m_phases, only: phases_t
@@ -190,12 +190,16 @@ contains
   !>   the full cells beside it (or takes what it lacks, at most half of the receiver's),
   !>   with its state per mass, to its cut face neighbour of largest fraction.
   !> The interior's content afterwards goes into q (the caller exchanges it again before
-  !> cut_open). Content with no wet neighbour stays (cut_open counts it as stranded).
-  subroutine cut_donate(blk, ph, p, alpha_e, alpha_prev)
+  !> cut_open, unless no block's content changed: changed, bit for bit). Content with no wet
+  !> neighbour stays (cut_open counts it as stranded). Beyond box (m_gfm_cut_box) every cell
+  !> is dry and holds no content: none moves there.
+  subroutine cut_donate(blk, ph, p, alpha_e, alpha_prev, box, changed)
     type(block_t), intent(inout) :: blk
     type(phases_t), intent(in) :: ph
     integer, intent(in) :: p
     real(wp), intent(in) :: alpha_e(:, :, :), alpha_prev(:, :, :)
+    integer, intent(in) :: box(2, 3)
+    logical, intent(out) :: changed
     real(wp), allocatable :: given(:, :)   !< (variable, listed cell) its new content
     integer, allocatable :: at(:, :)       !< (3, listed cell) where it is
     logical :: moving(blk%n(1), blk%n(2), blk%n(3))
@@ -213,17 +217,18 @@ contains
       ! the rows, which vectorises where a logical or does not)
       big = 0.0_wp
       do m = lo, lo + nf - 1
-        do k = 1, n(3)
-          do j = 1, n(2)
-            do i = 1, n(1)
+        do k = box(1, 3), box(2, 3)
+          do j = box(1, 2), box(2, 2)
+            do i = box(1, 1), box(2, 1)
               big(i, j, k) = max(big(i, j, k), abs(q(i, j, k, m)))
             end do
           end do
         end do
       end do
-      do k = 1, n(3)
-        do j = 1, n(2)
-          do i = 1, n(1)
+      moving = .false.
+      do k = box(1, 3), box(2, 3)
+        do j = box(1, 2), box(2, 2)
+          do i = box(1, 1), box(2, 1)
             moving(i, j, k) = .not. settled([i, j, k])
             if (moving(i, j, k) .and. .not. alpha_at([i, j, k]) > 0.0_wp) &
               moving(i, j, k) = big(i, j, k) > 0.0_wp
@@ -232,7 +237,13 @@ contains
       end do
       allocate(given(nf, count(moving)), at(3, count(moving)))
       call exchange(q(:, :, :, lo:lo + nf - 1))
+      ! (most moving cells give and take nothing: their content comes back as it was)
+      changed = .false.
       do l = 1, size(at, 2)
+        do m = 1, nf
+          if (transfer(given(m, l), 1_i8) /= transfer(q(at(1, l), at(2, l), at(3, l), &
+            lo + m - 1), 1_i8)) changed = .true.
+        end do
         q(at(1, l), at(2, l), at(3, l), lo:lo + nf - 1) = given(:, l)
       end do
     end associate

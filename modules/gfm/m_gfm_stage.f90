@@ -19,7 +19,9 @@ module m_gfm_stage
   use m_scene, only: rigid_bodies_move, made_t
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
-  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars, &
+    cut_boxes
+  use m_gfm_cut_box, only: box_union, box_whole
   use m_gfm_cut_close, only: cut_follow
   use m_gfm_cut_cells, only: cut_donate
   use m_state, only: n_euler, i_rho
@@ -157,6 +159,9 @@ contains
             merge(-1.0_wp, 1.0_wp, a > 0.0_wp)
         end associate
         near = wet(1:blk%n(1), 1:blk%n(2), 1:blk%n(3)) < 0.0_wp
+        ! (the box, for the update: m_gfm_cut_box)
+        call cut_boxes(cut, size(cut%c, 5))
+        cut%rate_box(:, :, b) = reshape([1, 0, 1, 0, 1, 0], [2, 3])
         if (.not. any(near)) then
           blk%rhs(:, :, :, ph%lo(p):ph%hi(p)) = 0.0_wp
           return
@@ -164,6 +169,7 @@ contains
         box = bounding_box(near)
         box(1, :) = max(box(1, :) - 1, 1)
         box(2, :) = min(box(2, :) + 1, blk%n)
+        cut%rate_box(:, :, b) = box
         call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
           blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
           wet, trouble, cut%faces(b), box)
@@ -257,8 +263,8 @@ contains
   !> every awake block, by mode:
   !> - states_geometry (the first stage): its geometry from the level sets;
   !> - states_open (a later stage, after the halo exchange): also its content made states
-  !>   (the emptied cells' content to their neighbours, the halo exchanged again, the small
-  !>   cells mixed: cut_donate, cut_open) and their radial return;
+  !>   (the emptied cells' content to their neighbours, the halo exchanged again when some
+  !>   content moved, the small cells mixed: cut_donate, cut_open) and their radial return;
   !> - states_end (after the last stage of a step): every halo first brought up to date,
   !>   then as states_open, the content kept for the next step (c0), the fractions, the rest
   !>   state beyond the phase and the step's in-flow through the sides in the budget; failed
@@ -281,13 +287,15 @@ contains
     logical, intent(in) :: thermal
     logical, intent(inout) :: failed
     logical :: states, final, bad, open_sides(2, 3)
+    logical :: moved(size(blocks))   !< a block whose content some cell gave or took
     logical, allocatable :: isreal(:, :, :), fresh(:, :, :)
     real(wp), allocatable :: share(:, :, :)   !< content over state: the wet part
     real(wp), allocatable :: step(:, :)       !< this step's budget terms per block
     real(wp) :: w(3)                          !< the stages' weights
     real(wp) :: total(7)
-    integer :: b, p, m, lo(3), hi(3), n(3), v0
+    integer :: b, p, m, lo(3), hi(3), n(3), v0, box(2, 3)
     if (.not. cut%on) return
+    call cut_boxes(cut, size(blocks))
     if (mode == states_end .or. mode == states_start) &
       call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, gf%dormant)
     if (mode == states_start) cut%started = .false.
@@ -297,6 +305,7 @@ contains
     bad = .false.
     p = cut%p
     v0 = ph%lo(p) - 1
+    moved = .false.
     do b = 1, size(blocks)
       if (gf%dormant(b)) cycle
       associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
@@ -325,12 +334,18 @@ contains
             cut%ext_n(b)%a = cut%ext(b)%a
           end if
         end if
-        if (states) call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a)
+        if (states) then
+          ! the cells content can reach: the content's box and those that may be wet
+          box = box_whole(n)
+          if (cut%boxed(b)) box = box_union(cut%box(:, :, b), cut%wet_box(:, :, b))
+          cut%box(:, :, b) = box
+          call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a, box, moved(b))
+        end if
       end associate
     end do
     cut%started = .true.
     if (.not. states) return
-    call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
+    call content_halo()
     do b = 1, size(blocks)
       if (gf%dormant(b)) then
         ! dry: its step-start states (a block that fell dormant in this step held content,
@@ -338,6 +353,7 @@ contains
         n = blocks(b)%n
         blocks(b)%q(1:n(1), 1:n(2), 1:n(3), ph%lo(p):ph%hi(p)) = &
           blocks(b)%q0(:, :, :, ph%lo(p):ph%hi(p))
+        cut%boxed(b) = .false.
         if (final) call cut_strand(cut, b, blocks(b))
         if (final) cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
         if (final .and. allocated(cut%ext_n(b)%a)) cut%ext_n(b)%a = 0.0_wp
@@ -347,7 +363,7 @@ contains
       associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
         call phase_region(blk)
         call cut_open(cut, b, blk, ph, cut%ext(b)%a, open_sides, final, bad, &
-          w%bigphi(:, :, :, p), w%owner(:, :, :, p))
+          w%bigphi(:, :, :, p), w%owner(:, :, :, p), cut%box(:, :, b))
         if (ph%strong(p)) then
           isreal = w%bigphi(1:n(1), 1:n(2), 1:n(3), p) < 0.0_wp
           fresh = isreal .and. .not. cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) > 0.0_wp
@@ -395,6 +411,29 @@ contains
     cut%held = cut%held + total(7)
 
   contains
+
+    !> The content the cells gave and took into the halo. Every other block's halo already
+    !> holds the content as it is (the exchange before this pass, the sides' conditions
+    !> from the same interior): where none moved on any rank, nothing is exchanged; on one
+    !> rank, only the blocks beside one that moved take their local copies again (m_halo's
+    !> halo_refresh, which gives what the whole exchange gives them).
+    subroutine content_halo()
+      logical :: stale(size(blocks))
+      integer :: c
+      if (.not. comm_any(any(moved))) return
+      if (comm_any(any(plan%remote))) then
+        call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
+        return
+      end if
+      stale = .false.
+      do c = 1, plan%ncopy
+        if (moved(plan%copy(c)%src_local)) stale(plan%copy(c)%local) = .true.
+      end do
+      do c = 1, size(blocks)
+        if (stale(c) .and. .not. gf%dormant(c)) call fill_ghosts(plan, lay, bc, blocks, ph, &
+          ghosts_flow, t, only=c)
+      end do
+    end subroutine content_halo
 
     !> Block blk's extent (n its cells, lo:hi with the halo), the work arrays fitted to it,
     !> and the phase's composite level set and owners over it: what both passes over the
