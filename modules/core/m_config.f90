@@ -61,7 +61,7 @@ module m_config
     integer :: rebalance_every = 100
     logical :: overlap = .false.   ! halo messages in flight while blocks are computed (m_step)
     ! &domain
-    integer :: ndim = 0, cells(3) = 1, block(3) = 0   ! block 0: chosen (m_deck_check)
+    integer :: ndim = 0, cells(3) = 1, block(3) = 0   ! block 0: chosen (m_layout)
     character(len=name_len) :: geometry = 'cartesian', base_material = ''
     real(wp) :: lo(3) = 0.0_wp, hi(3) = 1.0_wp, bc_velocity(3) = 0.0_wp, bc_rise_time = 0.0_wp
     character(len=name_len) :: bc_lo(3) = 'outflow', bc_hi(3) = 'outflow'
@@ -99,6 +99,10 @@ contains
   pure integer function material_index(cfg, name) result(k)
     type(config_t), intent(in) :: cfg
     character(len=*), intent(in) :: name
-    k = findloc(cfg%materials(1:cfg%n_materials)%name, name, 1)
+    ! (a loop: findloc over the component section would copy it to a temporary)
+    do k = 1, cfg%n_materials
+      if (cfg%materials(k)%name == name) return
+    end do
+    k = 0
   end function material_index
 end module m_config

@@ -175,7 +175,7 @@ contains
   !> when n is no larger; else the largest divisor of n between half the target and the
   !> target, so that all blocks are whole, and the target itself when there is none (the
   !> last block takes the rest). Independent of the rank count, so that a deck resolves to
-  !> the same blocks (and the same results) on any number of ranks. m_deck_check asks it
+  !> the same blocks (and the same results) on any number of ranks. layout_blocks asks it
   !> for a block size the deck leaves at 0.
   pure integer function layout_block_size(n, nd) result(b)
     integer, intent(in) :: n, nd

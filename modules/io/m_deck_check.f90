@@ -57,7 +57,8 @@ contains
     ! &material: each, then the library entries that the base material and bodies use
     do i = 1, cfg%n_materials
       call check_material(cfg%materials(i))
-      call check_name('material', cfg%materials(i)%name, cfg%materials(1:i - 1)%name)
+      call check_name('material', cfg%materials(i)%name, any(cfg%materials(1:i - 1)%name &
+        == cfg%materials(i)%name))
     end do
     call rule(len_trim(cfg%base_material) == 0, 'domain base_material', &
       "missing required value (a material name, or 'void')")
@@ -303,7 +304,7 @@ contains
         associate(b => cfg%bodies(i))
           if (len_trim(b%name) == 0) b%name = 'body' // int_text(i)
           in_b = " in body '" // trim(b%name) // "'"
-          call check_name('body', b%name, cfg%bodies(1:i - 1)%name)
+          call check_name('body', b%name, any(cfg%bodies(1:i - 1)%name == b%name))
           call rule(len_trim(b%material) == 0, 'body material', 'missing required value' // in_b)
           call rule(len_trim(b%shape) == 0, 'body shape', 'missing required value' // in_b)
           call body_check(b, cfg%ndim, in_b, rule)
@@ -378,13 +379,15 @@ contains
     end do
   end subroutine check_allowed
 
-  !> A material's or body's name: letters, digits, _ - . only, and none before it the same.
-  subroutine check_name(group, name, before)
-    character(len=*), intent(in) :: group, name, before(:)
+  !> A material's or body's name: letters, digits, _ - . only, and not taken (twice: one before
+  !> it in the deck has it).
+  subroutine check_name(group, name, twice)
+    character(len=*), intent(in) :: group, name
+    logical, intent(in) :: twice
     call rule(verify(trim(name), 'abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ' &
       // '0123456789_-.') > 0, group // ' name', "'" // trim(name) // "' is not a valid name " &
       // '(letters, digits, _ - . only)')
-    call rule(any(before == name), group // ' name', group // " '" // trim(name) &
+    call rule(twice, group // ' name', group // " '" // trim(name) &
       // "' is defined twice")
   end subroutine check_name
 
