@@ -21,6 +21,7 @@ module m_rebalance
   use m_simulation, only: sim_t, sim_plan
   use m_blocks, only: block_t, blocks_allocate
   use m_euler, only: cut_faces_t
+  use m_gfm_cut, only: cut_boxes
   use m_partition, only: partition_owner
   use m_balance, only: balance_imbalance, balance_loads, balance_rank_work, balance_weights, &
     balance_relabel, balance_start, balance_note, balance_note_move, balance_gain
@@ -234,6 +235,7 @@ contains
       sim%cut%c = 0.0_wp
       sim%cut%c0 = 0.0_wp
       sim%cut%alpha_n = 0.0_wp
+      call cut_boxes(sim%cut, nb)
     end if
     if (allocated(sim%fix%bflux)) then
       n(1:2) = shape(sim%fix%bflux(:, :, 1, 1))

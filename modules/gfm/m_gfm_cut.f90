@@ -117,6 +117,7 @@ contains
     allocate(cut%c0, mold=cut%c)
     allocate(cut%alpha_n(n(1), n(2), n(3), size(blocks)), cut%faces(size(blocks)))
     allocate(cut%ext(size(blocks)), cut%ext_n(size(blocks)))
+    call cut_boxes(cut, size(blocks))
     cut%c = 0.0_wp
     cut%c0 = 0.0_wp
     cut%alpha_n = 0.0_wp
@@ -144,7 +145,6 @@ contains
     integer :: box(2, 3)
     call cut_block_geometry(cut%work, blk%lay, blk%offset, blk%n, bigphi, open_side, &
       cut%faces(b), alpha_e, box)
-    call cut_boxes(cut, size(cut%c, 5))
     cut%wet_box(1, :, b) = max(box(1, :), 1)
     cut%wet_box(2, :, b) = min(box(2, :), blk%n)
   end subroutine cut_geometry
@@ -456,7 +456,6 @@ contains
     n = blk%n
     a = 0.0_wp
     if (stage > 1) a = rk_blend(stage, order)
-    call cut_boxes(cut, size(cut%c, 5))
     ! the content's box: at a step's first stage that of c0 (a restart, a rebalance or a
     ! block that woke may have brought it), then what the stages and opens added
     if (stage == 1) then
@@ -474,14 +473,12 @@ contains
     end do
   end subroutine cut_update
 
-  !> The boxes sized for nb blocks (anew, not boxed, after the blocks changed: a rebalance).
+  !> The boxes sized for nb blocks, none boxed: at the setup, and again when the blocks
+  !> changed (m_rebalance), since a block's box is its own.
   subroutine cut_boxes(cut, nb)
     type(cut_t), intent(inout) :: cut
     integer, intent(in) :: nb
-    if (allocated(cut%boxed)) then
-      if (size(cut%boxed) == nb) return
-      deallocate(cut%box, cut%rate_box, cut%wet_box, cut%boxed)
-    end if
+    if (allocated(cut%boxed)) deallocate(cut%box, cut%rate_box, cut%wet_box, cut%boxed)
     allocate(cut%box(2, 3, nb), cut%rate_box(2, 3, nb), cut%wet_box(2, 3, nb), cut%boxed(nb))
     cut%box = 0
     cut%rate_box = 0

@@ -10,7 +10,10 @@ module m_gfm_cut_box
   use m_kinds, only: wp
   implicit none
   private
-  public :: box_union, box_nonzero, box_below, box_whole, stage_content, put_states
+  public :: box_union, box_nonzero, box_below, box_whole, box_empty, stage_content, put_states
+
+  !> a box without a cell
+  integer, parameter :: box_empty(2, 3) = reshape([1, 0, 1, 0, 1, 0], [2, 3])
 
 contains
 

@@ -19,9 +19,8 @@ module m_gfm_stage
   use m_scene, only: rigid_bodies_move, made_t
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
-  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars, &
-    cut_boxes
-  use m_gfm_cut_box, only: box_union, box_whole
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars
+  use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty
   use m_gfm_cut_close, only: cut_follow
   use m_gfm_cut_cells, only: cut_donate
   use m_state, only: n_euler, i_rho
@@ -158,15 +157,13 @@ contains
           wet(1-e(1):blk%n(1)+e(1), 1-e(2):blk%n(2)+e(2), 1-e(3):blk%n(3)+e(3)) = &
             merge(-1.0_wp, 1.0_wp, a > 0.0_wp)
         end associate
-        near = wet(1:blk%n(1), 1:blk%n(2), 1:blk%n(3)) < 0.0_wp
-        ! (the box, for the update: m_gfm_cut_box)
-        call cut_boxes(cut, size(cut%c, 5))
-        cut%rate_box(:, :, b) = reshape([1, 0, 1, 0, 1, 0], [2, 3])
-        if (.not. any(near)) then
+        ! (the box is kept for the update: m_gfm_cut_box)
+        box = box_below(wet(1:blk%n(1), 1:blk%n(2), 1:blk%n(3)))
+        cut%rate_box(:, :, b) = box_empty
+        if (any(box(1, :) > box(2, :))) then
           blk%rhs(:, :, :, ph%lo(p):ph%hi(p)) = 0.0_wp
           return
         end if
-        box = bounding_box(near)
         box(1, :) = max(box(1, :) - 1, 1)
         box(2, :) = min(box(2, :) + 1, blk%n)
         cut%rate_box(:, :, b) = box
@@ -295,7 +292,6 @@ contains
     real(wp) :: total(7)
     integer :: b, p, m, lo(3), hi(3), n(3), v0, box(2, 3)
     if (.not. cut%on) return
-    call cut_boxes(cut, size(blocks))
     if (mode == states_end .or. mode == states_start) &
       call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, gf%dormant)
     if (mode == states_start) cut%started = .false.
