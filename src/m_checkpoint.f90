@@ -8,7 +8,7 @@ module m_checkpoint
   use m_hdf5_io, only: h5_file_t, h5_create, h5_open_read, h5_close, h5_write_attr, &
     h5_read_attr, h5_write_field, h5_read_field, h5_read_field_halo, h5_write_text, &
     h5_has_attr, h5_is_hdf5, h5_exists
-  use m_errors, only: stop_collective, log_line
+  use m_errors, only: stop_collective, error_line, log_line
   use m_text, only: base_name, int_text
   use m_output, only: step_file_name
   use m_hotspot, only: hot_pack, hot_unpack
@@ -149,8 +149,8 @@ contains
       end if
       call h5_close(f)
     end if
-    call stop_collective('ERROR ' // base_name(sim%cfg%deck_file) // ' &run restart: ' // &
-      why // " (typical value 'out/sod/chk_000100.h5')", len(why) == 0)
+    call stop_collective(error_line(base_name(sim%cfg%deck_file), '&run restart', why, &
+      "'out/sod/chk_000100.h5'"), len(why) == 0)
 
   contains
 

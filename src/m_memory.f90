@@ -7,7 +7,7 @@ module m_memory
   use m_layout, only: layout_t
   use m_timers, only: memory_kb, node_memory_kb
   use m_comm, only: comm_size, comm_node_ranks
-  use m_errors, only: stop_collective
+  use m_errors, only: stop_collective, error_line
   use m_text, only: base_name, int_text
   implicit none
   private
@@ -74,13 +74,13 @@ contains
     character(len=*), intent(in) :: deck_file
     real(wp) :: need
     need = mem%node_ranks * sum(mem%parts)
-    call stop_collective('ERROR ' // trim(base_name(deck_file)) // ' &domain cells: ' &
-      // 'the run needs an estimated ' // mem_text(need) // ' on this node (' &
+    call stop_collective(error_line(trim(base_name(deck_file)), '&domain cells', &
+      'the run needs an estimated ' // mem_text(need) // ' on this node (' &
       // int_text(mem%node_ranks) &
       // trim(merge(' rank  ', ' ranks ', mem%node_ranks == 1)) &
       // ' of ' // mem_text(sum(mem%parts)) // ' each) ' &
       // 'but the node has ' // mem_text(mem%node_available) // ' available ' &
-      // '(/proc/meminfo MemAvailable): use fewer cells, or more nodes', &
+      // '(/proc/meminfo MemAvailable): use fewer cells, or more nodes', ''), &
       .not. (mem%node_available > 0.0_wp .and. need > mem%node_available))
   end subroutine memory_check
 

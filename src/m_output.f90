@@ -20,9 +20,8 @@ module m_output
   use m_hotspot, only: hot_t, hot_columns, hot_row_start, hot_block, hot_cell, hot_row, &
     hot_nearest, hot_wants
   use m_kinds, only: i8, line_len
-  use m_errors, only: stop_collective
+  use m_errors, only: stop_collective, error_line
   use m_text, only: base_name, normal_path, dir_name, replaced
-  use m_deck_schema, only: error_line
   use m_deck, only: deck_write_resolved
   implicit none
   private

@@ -36,7 +36,7 @@ module m_simulation
   use m_timers, only: timers_t
   use m_memory, only: memory_t, memory_estimate, memory_check
   use m_comm, only: comm_rank, comm_any, comm_max, comm_backend_name
-  use m_errors, only: stop_collective
+  use m_errors, only: stop_collective, error_line
   use m_text, only: base_name, int_text
   use m_hotspot, only: hot_t, hot_start
   use m_reaction, only: reaction_from_name, reaction_none
@@ -281,10 +281,8 @@ contains
     integer :: b, n, id, i, j, k, off(3), np, ext(3), c
     real(wp) :: deep, dmax
     logical, allocatable :: whole(:)
-    character(len=:), allocatable :: base
-    base = trim(base_name(cfg%deck_file))
-    call stop_collective('ERROR ' // base // ' &domain base_material: with a void base ' // &
-      'some &body must be of a material', cfg%base_material /= 'void' .or. &
+    call stop_collective(error_line(trim(base_name(cfg%deck_file)), '&domain base_material', &
+      'with a void base some &body must be of a material', ''), cfg%base_material /= 'void' .or. &
       any([(cfg%bodies(b)%material /= 'void' .and. cfg%bodies(b)%material /= 'rigid', &
       b = 1, cfg%n_bodies)]))
     sim%ls%base_flows = cfg%base_material /= 'void'

@@ -74,8 +74,7 @@ module m_config
     integer :: rk_order = 3, reinit_every = 5, band = 6
     real(wp) :: cfl = 0.5_wp, dt_max = unset, contact_kappa = 1.0_wp
     ! &physics
-    logical :: strength = .false., thermal = .false., heat_conduction = .false.
-    logical :: reaction = .false.
+    logical :: strength = .false., thermal = .false., heat_conduction = .false., reaction = .false.
     ! &material, &body
     integer :: n_materials = 0, n_bodies = 0
     type(material_t) :: materials(max_materials)

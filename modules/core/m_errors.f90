@@ -2,6 +2,7 @@
 !>  - fatal(where, what): an error that one rank found; prints and aborts every rank.
 !>  - stop_collective(msg, ok): called by every rank with its own verdict; when any rank
 !>    has ok = .false., the lowest such rank prints its message and all ranks exit(1).
+!>    A deck's value refused is told by error_line's `ERROR <deck> &group var: why`.
 !> log_line writes to stdout on rank 0 and to the run log once it is open; log_flush pushes
 !> both out.
 module m_errors
@@ -9,7 +10,7 @@ module m_errors
   use m_comm, only: comm_abort, comm_exit, comm_is_root, comm_minloc_rank, comm_rank
   implicit none
   private
-  public :: fatal, stop_collective, log_open, log_close, log_line, log_flush, rule_i
+  public :: fatal, stop_collective, error_line, log_open, log_close, log_line, log_flush, rule_i
 
   !> A deck rule as the deck layer records it (m_deck_schema's rule): when prohibited holds,
   !> the variable var ('group name') is refused for the reason why. Modules that know what
@@ -49,6 +50,17 @@ contains
     if (log_is_open) close(log_unit)
     call comm_exit(1)
   end subroutine stop_collective
+
+  !> `ERROR <base> <where>: <why> (typical value <typical>)`, without `<where>` or the
+  !> parenthesis when they are blank.
+  function error_line(base, where, why, typical) result(line)
+    character(len=*), intent(in) :: base, where, why, typical
+    character(len=:), allocatable :: line
+    line = 'ERROR ' // base
+    if (len_trim(where) > 0) line = line // ' ' // trim(where)
+    line = line // ': ' // why
+    if (len_trim(typical) > 0) line = line // ' (typical value ' // trim(typical) // ')'
+  end function error_line
 
   subroutine log_open(path)
     character(len=*), intent(in) :: path

@@ -29,7 +29,7 @@ module m_eos
   private
   public :: eos_t, eos_ideal_gas, eos_stiffened_gas, eos_mie_gruneisen, eos_polynomial
   public :: eos_pressure, eos_energy, eos_sound_speed2, eos_temperature, eos_min_pressure
-  public :: eos_prepare, eos_names, eos_needs, eos_from_material, gas_p_rule
+  public :: eos_prepare, eos_names, eos_needs, eos_from_material, gas_p_rule, is_gas_eos
 
   integer, parameter :: eos_ideal_gas = 1
   integer, parameter :: eos_stiffened_gas = 2
@@ -77,6 +77,13 @@ module m_eos
   end type eos_t
 
 contains
+
+  !> Whether the deck's eos name is a gas's (ideal or stiffened: no strength; its rho0, p0
+  !> and cv asked for only where the scene uses them).
+  elemental logical function is_gas_eos(name)
+    character(len=*), intent(in) :: name
+    is_gas_eos = name == eos_names(eos_ideal_gas) .or. name == eos_names(eos_stiffened_gas)
+  end function is_gas_eos
 
   !> A gas's pressure where it is set (var: a material's p0, a body's p; in: which one): at
   !> least 0 in an ideal gas, above -p_inf in a stiffened gas (p_inf missing: an error already).

@@ -7,14 +7,14 @@
 module m_deck
   use m_kinds, only: line_len
   use m_config, only: config_t, max_materials, max_bodies
-  use m_errors, only: stop_collective
+  use m_errors, only: stop_collective, error_line
   use m_comm, only: comm_bcast, comm_is_root
   use m_material_library, only: library_lookup
   use m_text, only: int_text, base_name, file_text, to_lower, edit_distance, quoted, in_list, joined
   use m_deck_parse, only: deck_var_t, deck_assign_t, deck_group_t, deck_split, first_group, &
     assign_value, value_text
   use m_deck_schema, only: deck_table, group_table, group_names, var_index, fail, fail_now, &
-    error_line, deck_errors_begin, deck_errors_stop, deck_error_mark
+    deck_errors_begin, deck_errors_stop, deck_error_mark
   use m_deck_check, only: deck_check
   implicit none
   private

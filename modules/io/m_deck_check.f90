@@ -1,17 +1,17 @@
 !> Resolving and checking a deck once it is read (DESIGN section 6). Resolving: materials
 !> from the library where used, block sizes, a body's rho and p from its material, the output
-!> fields, a model's defaults, the &physics switches left out (manual/materials.md).
+!> fields (m_plot_fields), a model's defaults, the &physics switches left out (materials.md).
 !> Checking: rules of one line each, `call rule(<prohibited>, '<group> <variable>', '<why>')`,
 !> in a fixed order; a check that would only repeat an error already found is left out.
 !> Choices and the form of each value were checked when it was read (m_deck).
 module m_deck_check
-  use m_kinds, only: wp, name_len
+  use m_kinds, only: wp
   use m_config, only: config_t, material_t, is_set, max_materials, material_index
   use m_material_library, only: library_lookup, library_names
   use m_yield, only: strength_problem, strength_from_material, strength_model_names, &
     strength_model_needs, strength_resolve, strength_rules, strength_thermal
   use m_reaction, only: reaction_rules
-  use m_eos, only: eos_names, eos_needs, gas_p_rule
+  use m_eos, only: eos_names, eos_needs, gas_p_rule, is_gas_eos
   use m_text, only: int_text, in_list, got_text
   use m_deck_parse, only: deck_var_t, deck_group_t, deck_assign_t, first_group
   use m_deck_schema, only: rule, deck_table, var_index, n_deck_errors, deck_has_error, &
@@ -20,17 +20,11 @@ module m_deck_check
   use m_layout, only: layout_check
   use m_boundary, only: bc_check
   use m_scene, only: state_needs, body_check
+  use m_plot_fields, only: fields_resolve
   implicit none
   private
   public :: deck_check
 
-  character(len=*), parameter :: gas_eoses = 'ideal_gas, stiffened_gas'
-  character(len=*), parameter :: field_names = 'rho, u, v, w, p, e, T, c, mach, phase, ' &
-    // 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq, lambda'
-  character(len=*), parameter :: strength_fields = 'sxx, syy, szz, sxy, syz, sxz, eps_p, seq'
-  !> the standard output fields; T, eps_p and seq only where they apply (deck_check)
-  character(len=5), parameter :: default_fields(9) = [character(len=5) :: 'rho', 'u', 'v', &
-    'w', 'p', 'e', 'T', 'eps_p', 'seq']
 
 contains
 
@@ -40,7 +34,6 @@ contains
     type(deck_assign_t), intent(in) :: assigns(:)
     type(config_t), target, intent(inout) :: cfg
     type(deck_var_t), allocatable :: vars(:)
-    character(len=name_len), allocatable :: kept(:)
     logical :: temperature
     integer :: i
     ! the values of &run, &domain, &numerics and &output where their table lines allow
@@ -53,7 +46,6 @@ contains
       cfg%rebalance_threshold < 1.0_wp), 'run rebalance_threshold', 'must be 0 (never migrate) ' &
       // 'or >= 1' // got_text(cfg%rebalance_threshold))
     call check_domain()
-    call check_output()
     ! &material: each, then the library entries that the base material and bodies use
     do i = 1, cfg%n_materials
       call check_material(cfg%materials(i))
@@ -69,15 +61,7 @@ contains
     end do
     call check_gas_needs(temperature)
     call check_physics()
-    ! fields not given: the standard ones, T where every gas in use has a cv, the plastic
-    ! strain and von Mises stress where strength is on
-    if (.not. given('output', 'fields')) then
-      kept = pack(default_fields, [(.true., i = 1, 6), temperature, cfg%strength, cfg%strength])
-      if (cfg%reaction) kept = [character(len=name_len) :: kept, 'lambda']
-      cfg%n_fields = size(kept)
-      cfg%fields = ''
-      cfg%fields(1:size(kept)) = kept
-    end if
+    call fields_resolve(cfg%fields, cfg%n_fields, temperature, cfg%strength, cfg%reaction, rule)
     call check_bodies()
     call numerics_defaults(cfg, cfg%numerics_note)
 
@@ -117,23 +101,6 @@ contains
         // trim(cfg%bc_lo(1)) // "'")
     end subroutine check_domain
 
-    !> The fields given (the blanks between them dropped), or the default ones.
-    subroutine check_output()
-      character(len=name_len), allocatable :: kept(:)
-      integer :: k
-      kept = pack(cfg%fields, cfg%fields /= '')
-      do k = 1, size(kept)
-        call rule(.not. in_list(kept(k), field_names), 'output fields', "unknown field '" &
-          // trim(kept(k)) // "' (allowed: " // field_names // ')')
-        call rule(any(kept(1:k - 1) == kept(k)), 'output fields', "field '" // trim(kept(k)) &
-          // "' is listed twice")
-      end do
-      if (size(kept) == 0) kept = default_fields(1:7)   ! (fields = '' given: the first seven)
-      cfg%n_fields = size(kept)
-      cfg%fields = ''
-      cfg%fields(1:size(kept)) = kept
-    end subroutine check_output
-
     !> One material: its eos and the values that eos needs, its strength model (defaults
     !> filled in) and the values that model needs, and the range of every value given.
     subroutine check_material(m)
@@ -171,7 +138,7 @@ contains
       end if
       n_before = n_deck_errors
       km = findloc(strength_model_names, m%strength_model, 1)
-      call strength_resolve(m, in_list(m%eos, gas_eoses), in_m, rule)
+      call strength_resolve(m, is_gas_eos(m%eos), in_m, rule)
       if (n_deck_errors == n_before .and. km > 0) &
         call need(vars, strength_model_needs(km), "strength_model '" // trim(m%strength_model) &
           // "'" // in_m)
@@ -223,12 +190,11 @@ contains
       temperature = .true.
       do k = 1, cfg%n_materials
         associate(m => cfg%materials(k))
-          if (.not. in_list(m%eos, gas_eoses) .or. .not. material_used(m%name)) cycle
+          if (.not. is_gas_eos(m%eos) .or. .not. material_used(m%name)) cycle
           what = "missing required value for eos '" // trim(m%eos) // "' in material '" &
             // trim(m%name) // "'"
           why_t = ''
-          if (given('output', 'fields') .and. any(cfg%fields(1:cfg%n_fields) == 'T')) &
-            why_t = 'the output field T'
+          if (any(cfg%fields == 'T')) why_t = 'the output field T'
           call state_needs(cfg%bodies(1:cfg%n_bodies), m%name, cfg%base_material, cfg%ndim, &
             cfg%lo, cfg%hi, why_rho, why_p, why_t)
           call rule(.not. is_set(m%cv) .and. len(why_t) > 0, 'material cv', what // ' (' &
@@ -247,7 +213,7 @@ contains
     !> with temperature (johnson_cook) or plastic heating (taylor_quinney > 0); heat_conduction,
     !> a conductivity; reaction, a reaction. Set to .true., some material in use must need it.
     !> Not conduction or reaction with the cut-cell update, whose content would not take their
-    !> sources (not built); the fields of strength and reaction need them on.
+    !> sources (not built).
     subroutine check_physics()
       logical :: used(cfg%n_materials)
       integer :: k
@@ -271,13 +237,6 @@ contains
       call rule((cfg%heat_conduction .or. cfg%reaction) .and. cfg%conserve == 'cut_cell', &
         'numerics conserve', "'cut_cell' with heat conduction or reaction is not built (the " &
         // "cut cells' content does not take their sources; use 'mass_energy')")
-      do k = 1, cfg%n_fields
-        call rule(.not. cfg%reaction .and. cfg%fields(k) == 'lambda', 'output fields', &
-          "field 'lambda' needs reaction, which is off (no material in use has a reaction)")
-        call rule(.not. cfg%strength .and. in_list(cfg%fields(k), strength_fields), &
-          'output fields', "field '" // trim(cfg%fields(k)) // "' needs strength, which is " &
-          // 'off (no material in use has a strength_model, or &physics strength = .false.)')
-      end do
     end subroutine check_physics
 
     !> A switch left out is on exactly when needed; given .true., it must be needed.

@@ -7,7 +7,7 @@
 module m_deck_schema
   use m_kinds, only: wp
   use m_config, only: config_t, material_t, body_t
-  use m_errors, only: stop_collective
+  use m_errors, only: stop_collective, error_line
   use m_text, only: to_lower, joined
   use m_deck_parse, only: deck_var_t
   use m_boundary, only: bc_names
@@ -21,7 +21,7 @@ module m_deck_schema
   implicit none
   private
   public :: deck_table, group_table, group_names, var_index
-  public :: fail, fail_now, rule, error_line, deck_errors_begin, deck_errors_stop
+  public :: fail, fail_now, rule, deck_errors_begin, deck_errors_stop
   public :: deck_error_mark, deck_has_error
 
   character(len=8), parameter :: group_names(7) = [character(len=8) :: 'run', 'domain', &
@@ -339,17 +339,6 @@ contains
     has = index(err_keys, '|' // key // '|') > 0 .or. &
       index(err_keys, '|' // key(1:index(key, ' ')) // '*|') > 0
   end function deck_has_error
-
-  !> `ERROR <base> <where>: <why> (typical value <typical>)`, without `<where>` or the
-  !> parenthesis when they are blank.
-  function error_line(base, where, why, typical) result(line)
-    character(len=*), intent(in) :: base, where, why, typical
-    character(len=:), allocatable :: line
-    line = 'ERROR ' // base
-    if (len_trim(where) > 0) line = line // ' ' // trim(where)
-    line = line // ': ' // why
-    if (len_trim(typical) > 0) line = line // ' (typical value ' // trim(typical) // ')'
-  end function error_line
 
   !> One rule of the deck: when `prohibited` holds, the variable var ('group name', with an
   !> index maybe) is refused for the reason why, with its typical value from the table.

@@ -14,7 +14,7 @@
 module m_scene
   use m_kinds, only: wp
   use m_config, only: body_t, is_set
-  use m_errors, only: stop_collective, rule_i
+  use m_errors, only: stop_collective, error_line, rule_i
   use m_text, only: int_text, real_text, got_text
   use m_scene_generate, only: random_spheres, spheres_distance
   use m_scene_field, only: random_field, field_distance, field_points, max_field_points
@@ -223,8 +223,8 @@ contains
         case default
           cycle
         end select
-        call stop_collective('ERROR ' // deck // " &body shape: '" // trim(body%shape) // &
-          "' in body '" // trim(body%name) // "': " // why, len(why) == 0)
+        call stop_collective(error_line(deck, '&body shape', "'" // trim(body%shape) &
+          // "' in body '" // trim(body%name) // "': " // why, ''), len(why) == 0)
       end associate
     end do
   end subroutine scene_generate
