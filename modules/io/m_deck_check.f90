@@ -25,7 +25,6 @@ module m_deck_check
   private
   public :: deck_check
 
-
 contains
 
   !> Resolve and check cfg as read from groups.
