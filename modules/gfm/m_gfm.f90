@@ -192,13 +192,22 @@ contains
 
   contains
 
+    !> Phase pp's primitives on the rows of the padded block that come within reach of its
+    !> region: a probe reads the real cells of a phase (least squares, the mean, the partner
+    !> of an MMI ghost) or the 2^ndim cells around an image point, which lies in the region,
+    !> so within sqrt(ndim) cells of it (3 cells here: a level set is only nearly a distance);
+    !> a row with every cell farther (the block's other grains, in a scene of many) is not
+    !> read and not made.
     subroutine primitives(pp)
       integer, intent(in) :: pp
       integer :: m, nr, off
+      real(wp) :: reach
       nr = hi(1) - lo(1) + 1
       off = (pp - 1) * nflow
+      reach = 3.0_wp * maxval(lay%dx(1:lay%ndim))
       do k = lo(3), hi(3)
         do j = lo(2), hi(2)
+          if (all(work%bigphi(:, j, k, pp) > reach)) cycle
           call primitive_row(scn%eos(pp), nr, q(:, j, k, off+i_rho), q(:, j, k, off+i_mx), &
             q(:, j, k, off+i_my), q(:, j, k, off+i_mz), q(:, j, k, off+i_en), &
             work%w(:, j, k, 1, pp), work%w(:, j, k, 2, pp), work%w(:, j, k, 3, pp), &

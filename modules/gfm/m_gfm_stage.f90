@@ -30,6 +30,10 @@ module m_gfm_stage
   private
   public :: ghost_fluid_fill, phase_rhs, phase_corrections, phase_states
 
+  !> the tiles' size in cells along each direction, within which a phase's rates are
+  !> computed over one box (phase_rhs)
+  integer, parameter :: tile_cells = 16
+
   !> what phase_states does (see there)
   integer, parameter, public :: states_geometry = 0, states_open = 1, states_end = 2, &
     states_start = 3
@@ -129,10 +133,10 @@ contains
       ! a phase absent from the block (every cell more than two cells beyond its region, so
       ! that no cell can turn real in the stage) is not computed: its cells go to the rest
       ! state after the update anyway (gfm_rest); so the cost follows the phases present.
-      ! Where it is present, only the box of its cells within two cells of its region is
-      ! (the rest of the block again holds its rest state after the update).
-      box(1, :) = 1
-      box(2, :) = blk%n
+      ! Where it is present, only the boxes of its cells within two cells of its region are,
+      ! one box in each tile of the block (the rest of the block again holds its rest state
+      ! after the update): a grain's colour is computed over about its own cells, not over the
+      ! box of every grain of that colour in the block.
       if (.not. cut%on) then
         near = gf%work%bigphi(1:blk%n(1), 1:blk%n(2), 1:blk%n(3), p) &
           <= 2.0_wp * maxval(blk%lay%dx(1:blk%lay%ndim))
@@ -142,7 +146,6 @@ contains
           gf%counts%absent = gf%counts%absent + 1
           return
         end if
-        box = bounding_box(near)
       end if
       if (p == cut%p) then
         ! the cut-cell phase: the rate of its content, fluxes times the wet faces; every
@@ -169,13 +172,13 @@ contains
         cut%rate_box(:, :, b) = box
         call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
           blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
-          wet, trouble, cut%faces(b), box)
+          wet, trouble, cut%faces(b), reshape(box, [2, 3, 1]))
         cut%side(:, stage, b) = cut%side(:, stage, b) + work%bflux
         return
       end if
       call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
         blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
-        gf%work%bigphi(:, :, :, p), trouble, box=box)
+        gf%work%bigphi(:, :, :, p), trouble, boxes=near_boxes(near, tile_cells))
       if (fix%on) fix%bflux(:, p, b, stage) = work%bflux
     else
       call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
@@ -184,7 +187,37 @@ contains
     end if
   end subroutine phase_rhs
 
-  !> The smallest box (low, high corner) that holds every true cell of mask (one at least).
+  !> The boxes of the true cells of mask (one at least) tile by tile: the block cut into
+  !> tiles of about `tile` cells along each direction, in each tile the smallest box that
+  !> holds its true cells (none where it has none); boxes(:, :, ib) is (low, high corner).
+  pure function near_boxes(mask, tile) result(boxes)
+    logical, intent(in) :: mask(:, :, :)
+    integer, intent(in) :: tile
+    integer, allocatable :: boxes(:, :, :)
+    integer :: nt(3), n(3), t(3), a(3), z(3), box(2, 3), nbox, i, j, k
+    n = shape(mask)
+    nt = max(1, nint(real(n, wp) / tile))
+    allocate(boxes(2, 3, product(nt)))
+    nbox = 0
+    do k = 0, nt(3) - 1
+      do j = 0, nt(2) - 1
+        do i = 0, nt(1) - 1
+          t = [i, j, k]
+          a = t * n / nt + 1
+          z = (t + 1) * n / nt
+          box = bounding_box(mask(a(1):z(1), a(2):z(2), a(3):z(3)))
+          if (any(box(1, :) > box(2, :))) cycle
+          nbox = nbox + 1
+          boxes(1, :, nbox) = box(1, :) + a - 1
+          boxes(2, :, nbox) = box(2, :) + a - 1
+        end do
+      end do
+    end do
+    boxes = boxes(:, :, 1:nbox)
+  end function near_boxes
+
+  !> The smallest box (low, high corner) that holds every true cell of mask (low > high
+  !> where it has none).
   pure function bounding_box(mask) result(box)
     logical, intent(in) :: mask(:, :, :)
     integer :: box(2, 3), d, i

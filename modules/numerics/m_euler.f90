@@ -103,7 +103,7 @@ contains
   !> first order; failed is set (and the rest skipped) when even the cell values next to a
   !> face are not admissible: the stage cannot go on and the caller recomputes the step.
   subroutine euler_rhs(lay, eos, st, num, q, rhs, offset, wall, vwall, work, nfallback, &
-      failed, bigphi, trouble, cut, box)
+      failed, bigphi, trouble, cut, boxes)
     type(layout_t), intent(in) :: lay
     type(eos_t), intent(in) :: eos
     type(strength_t), intent(in) :: st    !< strength (used when q carries the stress)
@@ -124,18 +124,16 @@ contains
     logical, intent(in), optional :: trouble(:, :, :)
     !> the phase's cut-cell geometry: rhs is the rate of its content (m_gfm_cut)
     type(cut_faces_t), intent(in), optional :: cut
-    !> the cells whose rates are wanted, (low, high) corner: only their pencils are computed,
-    !> every other cell's rate is 0 (a phase's cells far beyond its surface, which hold its
-    !> rest state after the update: m_gfm_stage); default the whole block
-    integer, intent(in), optional :: box(2, 3)
-    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nb, nv, m, c, ns, mb
+    !> the cells whose rates are wanted, boxes (low, high corner; box ib is boxes(:, :, ib),
+    !> disjoint): only their pencils are computed, every other cell's rate is 0 (a phase's
+    !> cells far beyond its surface, which hold its rest state after the update:
+    !> m_gfm_stage); default the whole block
+    integer, intent(in), optional :: boxes(:, :, :)
+    integer :: lo(3), hi(3), j, k, d, n, g, i, perm(n_solid + 1), nb, nv, m, c, ns, mb, ib
     integer :: i0, i1   !< the cells of a row whose primitives are made
     integer :: bx(2, 3), r3(3), o1, ob, cl, ch
     logical :: split, pwall(2), inj, ink
     real(wp) :: rdx, r
-    bx(1, :) = 1
-    bx(2, :) = lay%bsize
-    if (present(box)) bx = box
     ! (the cells a stencil reaches: a halo deeper than that is not read here)
     r3 = min(lay%ng, stencil_reach)
     lo = 1 - r3
@@ -145,108 +143,125 @@ contains
     ns = merge(n_solid, n_euler, nv >= n_solid)
     ! the first of the bounded scalars (eps_p, w_c, lambda) in pencil order
     mb = min(i_epsp, ns + 1)
-    ! the primitives of the cells the pencils of the box read: along each direction the
-    ! box's cells and the stencil's reach beyond them, so not the halo's edges and corners
-    ! (no stencil reaches them; a plan of faces only does not fill them, m_halo)
-    do k = max(lo(3), bx(1, 3) - r3(3)), min(hi(3), bx(2, 3) + r3(3))
-      do j = max(lo(2), bx(1, 2) - r3(2)), min(hi(2), bx(2, 2) + r3(2))
-        inj = j >= bx(1, 2) .and. j <= bx(2, 2)
-        ink = k >= bx(1, 3) .and. k <= bx(2, 3)
-        if (.not. (inj .or. ink)) cycle
-        if (inj .and. ink) then
-          i0 = max(lo(1), bx(1, 1) - r3(1))
-          i1 = min(hi(1), bx(2, 1) + r3(1))
-        else
-          i0 = bx(1, 1)
-          i1 = bx(2, 1)
-        end if
-        call primitive_row(eos, i1 - i0 + 1, q(i0:i1, j, k, i_rho), q(i0:i1, j, k, i_mx), &
-          q(i0:i1, j, k, i_my), q(i0:i1, j, k, i_mz), q(i0:i1, j, k, i_en), &
-          work%prim(i0:i1, j, k, 1), work%prim(i0:i1, j, k, 2), work%prim(i0:i1, j, k, 3), &
-          work%prim(i0:i1, j, k, 4), work%prim(i0:i1, j, k, 5), work%row(i0:i1))
-        do m = n_euler + 1, nv
-          work%prim(i0:i1, j, k, m) = q(i0:i1, j, k, m) / q(i0:i1, j, k, i_rho)
-        end do
-      end do
-    end do
-    ! (rhs is not zeroed first: the x direction's rates, rates_x, set it; the others add)
     work%bflux = 0.0_wp
-    do d = 1, lay%ndim
-      ! the pencils of the box along d: its cells o1 + 1 .. o1 + n, a wall only at the block's
-      ! own ends
-      o1 = bx(1, d) - 1
-      n = bx(2, d) - o1
-      pwall = wall(:, d) .and. [o1 == 0, o1 + n == lay%bsize(d)]
-      g = lay%ng(d)
-      rdx = 1.0_wp / lay%dx(d)
-      ! pencil frame (frame(:, d)); the bundle index contiguous (bundle_dir), one bundle at
-      ! each c of outer_dir
-      perm = [frame(:, d), 0]
-      ob = bx(1, bundle_dir(d)) - 1
-      nb = bx(2, bundle_dir(d)) - ob
-      cl = bx(1, outer_dir(d))
-      ch = bx(2, outer_dir(d))
-      ! rho lambda keeps its place, after the Euler or solid variables
-      if (nv > ns) perm(nv) = nv
-      do c = cl, ch
-        if (d == 1) then
-          call bundle_x(c, nb, n, g, work%pw)
-        else
-          call bundle_yz(d, c, nb, n, g, work%pw)
-        end if
-        ! (the scalars' faces: only where there are scalars, beyond the Euler variables)
-        if (nv > n_euler) call upwind_faces(d, c, nb, n, work%up, work%surf)
-        if (present(trouble)) then
-          call low_faces(d, c, nb, n, work%low)
-          call faces(work%low)
-        else
-          call faces()
-        end if
-        if (failed) return
-        if (present(cut)) call wet_faces(d, c, nb, n, work%f)
-        split = .false.
-        if (present(bigphi) .and. .not. present(cut) .and. nv >= mb) call ghost_fluxes(nb, n, &
-          work%surf, work%wl, work%wr, work%f, work%fr, split)
-        if (d == 1) then
-          call scatter_x(c, nb, n, work%f, work%fr)
-        else
-          call scatter_yz(d, c, nb, n, work%f, work%fr)
-        end if
-      end do
+    if (.not. present(boxes)) then
+      bx(1, :) = 1
+      bx(2, :) = lay%bsize
+      call box_rates()
+      return
+    end if
+    ! (the boxes' cells have their rates set by the x direction's rates_x, the others 0)
+    rhs = 0.0_wp
+    do ib = 1, size(boxes, 3)
+      bx = boxes(:, :, ib)
+      call box_rates()
+      if (failed) return
     end do
-    if (lay%axisymmetric) then
-      ! the hoop stress: the pressure term that the r-weighted divergence leaves (eq. 1.1)
-      do k = bx(1, 3), bx(2, 3)
-        do j = bx(1, 2), bx(2, 2)
-          do i = bx(1, 1), bx(2, 1)
-            r = lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1)
-            if (present(cut)) then
-              ! a cut cell: the hoop stress over its wet part, of planar area plane dr dz
-              rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + cut%plane(i, j, k) / r &
-                * work%prim(i, j, k, 5)
-              if (ns > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
-                - cut%plane(i, j, k) / r * work%prim(i, j, k, i_szz)
-              cycle
-            end if
-            rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + work%prim(i, j, k, 5) / r
-            ! with strength the hoop stress is p - S_theta theta (S_zz holds the hoop one)
-            if (ns > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
-              - work%prim(i, j, k, i_szz) / r
+
+  contains
+
+    !> The rates of the cells of box bx, from its pencils; the fluxes through the domain's
+    !> sides added to work%bflux.
+    subroutine box_rates()
+      ! the primitives of the cells the pencils of the box read: along each direction the
+      ! box's cells and the stencil's reach beyond them, so not the halo's edges and corners
+      ! (no stencil reaches them; a plan of faces only does not fill them, m_halo)
+      do k = max(lo(3), bx(1, 3) - r3(3)), min(hi(3), bx(2, 3) + r3(3))
+        do j = max(lo(2), bx(1, 2) - r3(2)), min(hi(2), bx(2, 2) + r3(2))
+          inj = j >= bx(1, 2) .and. j <= bx(2, 2)
+          ink = k >= bx(1, 3) .and. k <= bx(2, 3)
+          if (.not. (inj .or. ink)) cycle
+          if (inj .and. ink) then
+            i0 = max(lo(1), bx(1, 1) - r3(1))
+            i1 = min(hi(1), bx(2, 1) + r3(1))
+          else
+            i0 = bx(1, 1)
+            i1 = bx(2, 1)
+          end if
+          call primitive_row(eos, i1 - i0 + 1, q(i0:i1, j, k, i_rho), q(i0:i1, j, k, i_mx), &
+            q(i0:i1, j, k, i_my), q(i0:i1, j, k, i_mz), q(i0:i1, j, k, i_en), &
+            work%prim(i0:i1, j, k, 1), work%prim(i0:i1, j, k, 2), work%prim(i0:i1, j, k, 3), &
+            work%prim(i0:i1, j, k, 4), work%prim(i0:i1, j, k, 5), work%row(i0:i1))
+          do m = n_euler + 1, nv
+            work%prim(i0:i1, j, k, m) = q(i0:i1, j, k, m) / q(i0:i1, j, k, i_rho)
           end do
         end do
       end do
-    end if
-
-    if (ns > n_euler) then
-      if (present(cut)) then
-        call stress_rates(lay, st, offset, bx, work%prim, rhs, cut%alpha)
-      else
-        call stress_rates(lay, st, offset, bx, work%prim, rhs)
+      ! (rhs is not zeroed first: the x direction's rates, rates_x, set it; the others add)
+      do d = 1, lay%ndim
+        ! the pencils of the box along d: its cells o1 + 1 .. o1 + n, a wall only at the block's
+        ! own ends
+        o1 = bx(1, d) - 1
+        n = bx(2, d) - o1
+        pwall = wall(:, d) .and. [o1 == 0, o1 + n == lay%bsize(d)]
+        g = lay%ng(d)
+        rdx = 1.0_wp / lay%dx(d)
+        ! pencil frame (frame(:, d)); the bundle index contiguous (bundle_dir), one bundle at
+        ! each c of outer_dir
+        perm = [frame(:, d), 0]
+        ob = bx(1, bundle_dir(d)) - 1
+        nb = bx(2, bundle_dir(d)) - ob
+        cl = bx(1, outer_dir(d))
+        ch = bx(2, outer_dir(d))
+        ! rho lambda keeps its place, after the Euler or solid variables
+        if (nv > ns) perm(nv) = nv
+        do c = cl, ch
+          if (d == 1) then
+            call bundle_x(c, nb, n, g, work%pw)
+          else
+            call bundle_yz(d, c, nb, n, g, work%pw)
+          end if
+          ! (the scalars' faces: only where there are scalars, beyond the Euler variables)
+          if (nv > n_euler) call upwind_faces(d, c, nb, n, work%up, work%surf)
+          if (present(trouble)) then
+            call low_faces(d, c, nb, n, work%low)
+            call faces(work%low)
+          else
+            call faces()
+          end if
+          if (failed) return
+          if (present(cut)) call wet_faces(d, c, nb, n, work%f)
+          split = .false.
+          if (present(bigphi) .and. .not. present(cut) .and. nv >= mb) call ghost_fluxes(nb, n, &
+            work%surf, work%wl, work%wr, work%f, work%fr, split)
+          if (d == 1) then
+            call scatter_x(c, nb, n, work%f, work%fr)
+          else
+            call scatter_yz(d, c, nb, n, work%f, work%fr)
+          end if
+        end do
+      end do
+      if (lay%axisymmetric) then
+        ! the hoop stress: the pressure term that the r-weighted divergence leaves (eq. 1.1)
+        do k = bx(1, 3), bx(2, 3)
+          do j = bx(1, 2), bx(2, 2)
+            do i = bx(1, 1), bx(2, 1)
+              r = lay%lo(1) + (real(offset(1) + i, wp) - 0.5_wp) * lay%dx(1)
+              if (present(cut)) then
+                ! a cut cell: the hoop stress over its wet part, of planar area plane dr dz
+                rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + cut%plane(i, j, k) / r &
+                  * work%prim(i, j, k, 5)
+                if (ns > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
+                  - cut%plane(i, j, k) / r * work%prim(i, j, k, i_szz)
+                cycle
+              end if
+              rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) + work%prim(i, j, k, 5) / r
+              ! with strength the hoop stress is p - S_theta theta (S_zz holds the hoop one)
+              if (ns > n_euler) rhs(i, j, k, i_mx) = rhs(i, j, k, i_mx) &
+                - work%prim(i, j, k, i_szz) / r
+            end do
+          end do
+        end do
       end if
-    end if
-    if (present(box)) call outside_box()
 
-  contains
+      if (ns > n_euler) then
+        if (present(cut)) then
+          call stress_rates(lay, st, offset, bx, work%prim, rhs, cut%alpha)
+        else
+          call stress_rates(lay, st, offset, bx, work%prim, rhs)
+        end if
+      end if
+    end subroutine box_rates
 
     !> The face states and fluxes of the bundle d, c (m_euler_faces), the faces low (of the
     !> trouble cells) at first order when given, the faces beside a cut cell with their
@@ -532,20 +547,6 @@ contains
         end if
       end do
     end subroutine rates_yz
-
-    !> rate 0 for every cell outside the box
-    subroutine outside_box()
-      integer :: ii, jj, kk
-      do kk = 1, lay%bsize(3)
-        do jj = 1, lay%bsize(2)
-          do ii = 1, lay%bsize(1)
-            if (ii >= bx(1, 1) .and. ii <= bx(2, 1) .and. jj >= bx(1, 2) .and. &
-              jj <= bx(2, 2) .and. kk >= bx(1, 3) .and. kk <= bx(2, 3)) cycle
-            rhs(ii, jj, kk, :) = 0.0_wp
-          end do
-        end do
-      end do
-    end subroutine outside_box
 
     !> whether cell (i0, j0, k0) lies on the domain's low (lh = 1) or high (2) side in
     !> direction dd (not a periodic one) and is real for the phase

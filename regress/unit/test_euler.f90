@@ -18,10 +18,10 @@
 !>     and the ghost beside it, whose plastic strain is a millionth of the real cell's, keeps
 !>     rho eps_p >= 0 over a step at the time step's limit (its scalars leave it at its own
 !>     value, not the real cell's), on either side of the body.
-!> (5) a box of the block (a body's cells near its surface, m_gfm_stage): the rates of its
-!>     cells are those of the whole block to the bit and every other cell's is 0, for gas
-!>     and solid, with a surface, in 3D and in axisymmetry, for a box inside the block and
-!>     one at its sides.
+!> (5) boxes of the block (a body's cells near its surface, tile by tile, m_gfm_stage): the
+!>     rates of their cells are those of the whole block to the bit and every other cell's
+!>     is 0, for gas and solid, with a surface, in 3D and in axisymmetry, for a box inside
+!>     the block, one at its sides, and the two together.
 !> The state is of size 1 (rho, p, c, |S| of order 1): round-off is then 1e-16 of it.
 !> euler_rhs is called in one place (compute_rhs), so a change of its arguments is one edit.
 program test_euler
@@ -76,7 +76,8 @@ contains
 
   !> The one call of euler_rhs: a block without walls, at offset 0 of its layout; the
   !> rates that crossed the domain's sides come back in bflux.
-  subroutine compute_rhs(lay, st, scheme, flux, scalar_flux, q, rhs, work, bflux, bigphi, box)
+  subroutine compute_rhs(lay, st, scheme, flux, scalar_flux, q, rhs, work, bflux, bigphi, &
+      boxes)
     type(layout_t), intent(in) :: lay
     type(strength_t), intent(in) :: st
     integer, intent(in) :: scheme, flux, scalar_flux
@@ -86,7 +87,7 @@ contains
     real(wp), intent(out) :: bflux(2)
     !> the phase's composite level set (< 0 where its cells are real), when it has a surface
     real(wp), intent(in), optional :: bigphi(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):)
-    integer, intent(in), optional :: box(2, 3)   !< the cells whose rates are made
+    integer, intent(in), optional :: boxes(:, :, :)   !< the cells whose rates are made
     logical :: wall(2, 3), failed
     real(wp) :: vwall(2, 3)
     integer :: nfallback
@@ -97,7 +98,7 @@ contains
     nfallback = 0
     failed = .false.
     call euler_rhs(lay, gas, st, num, q, rhs, [0, 0, 0], wall, vwall, work, nfallback, &
-      failed, bigphi, box=box)
+      failed, bigphi, boxes=boxes)
     call check('euler_rhs: no face fell back, the stage went on', nfallback == 0 .and. &
       .not. failed)
     bflux = work%bflux
@@ -288,7 +289,8 @@ contains
   end subroutine surface_scalars
 
   !> A smooth state varying in every direction, halo included (no side conditions needed),
-  !> a plane surface across it, and the rates of two boxes against the whole block's.
+  !> a plane surface across it, and the rates of two boxes, alone and together, against the
+  !> whole block's.
   subroutine box_rates(nd, with_strength, axisymmetric)
     integer, intent(in) :: nd
     logical, intent(in) :: with_strength, axisymmetric
@@ -297,7 +299,7 @@ contains
     type(euler_work_t) :: work
     real(wp), allocatable :: q(:, :, :, :), rhs(:, :, :, :), rbox(:, :, :, :), bigphi(:, :, :)
     real(wp) :: x(3), b, qc(n_solid), sdev(6), bflux(2)
-    integer :: i, j, k, nv, t, box(2, 3), lo(3), hi(3)
+    integer :: i, j, k, nv, t, box(2, 3, 2), lo(3), hi(3), b0, b1
     logical :: inside
     character(len=:), allocatable :: tag
     nv = merge(n_solid, n_euler, with_strength)
@@ -329,20 +331,20 @@ contains
       call compute_rhs(lay, nostrength, scheme_eno3, flux_kind_hllc, scalar_flux_llf, q, rhs, &
         work, bflux, bigphi)
     end if
-    do t = 1, 2
-      if (t == 1) then
-        box = reshape([3, 7, 2, 5, 3, 6], [2, 3])   ! inside the block
-      else
-        box = reshape([1, 4, 6, 10, 1, 8], [2, 3])   ! at its sides
-      end if
-      if (nd < 3) box(:, 3) = 1
+    box(:, :, 1) = reshape([3, 7, 2, 5, 3, 6], [2, 3])   ! inside the block
+    box(:, :, 2) = reshape([1, 4, 6, 10, 1, 8], [2, 3])   ! at its sides (apart from the first)
+    if (nd < 3) box(:, 3, :) = 1
+    do t = 1, 3
+      ! the first box, the second, both
+      b0 = merge(2, 1, t == 2)
+      b1 = merge(1, 2, t == 1)
       rbox = huge(1.0_wp)
       if (with_strength) then
         call compute_rhs(lay, solid, scheme_weno5, flux_kind_llf, scalar_flux_upwind, q, &
-          rbox, work, bflux, bigphi, box)
+          rbox, work, bflux, bigphi, box(:, :, b0:b1))
       else
         call compute_rhs(lay, nostrength, scheme_eno3, flux_kind_hllc, scalar_flux_llf, q, &
-          rbox, work, bflux, bigphi, box)
+          rbox, work, bflux, bigphi, box(:, :, b0:b1))
       end if
       tag = 'box ' // achar(48 + t) // ' ' // achar(48 + nd) // 'D ' // &
         trim(merge('axisymmetric ', 'cartesian    ', axisymmetric)) // ' ' // &
@@ -350,7 +352,8 @@ contains
       do k = 1, lay%bsize(3)
         do j = 1, lay%bsize(2)
           do i = 1, lay%bsize(1)
-            inside = all([i, j, k] >= box(1, :) .and. [i, j, k] <= box(2, :))
+            inside = all([i, j, k] >= box(1, :, b0) .and. [i, j, k] <= box(2, :, b0)) .or. &
+              all([i, j, k] >= box(1, :, b1) .and. [i, j, k] <= box(2, :, b1))
             if (inside) then
               if (.not. all(abs(rbox(i, j, k, :) - rhs(i, j, k, :)) <= 0.0_wp)) exit
             else
@@ -361,9 +364,9 @@ contains
         end do
         if (j <= lay%bsize(2)) exit
       end do
-      call check(tag // 'the box''s rates are the block''s (the same numbers), the others 0', &
+      call check(tag // 'the boxes'' rates are the block''s (the same numbers), the others 0', &
         k > lay%bsize(3))
-      call check(tag // 'and the box''s rates are not all 0', &
+      call check(tag // 'and the boxes'' rates are not all 0', &
         maxval(abs(rbox)) > 1.0e-3_wp)
     end do
   end subroutine box_rates
