@@ -124,6 +124,7 @@ contains
     real(wp), allocatable :: wet(:, :, :)
     integer :: lo(3), hi(3), e(3), box(2, 3)
     logical :: near(blk%n(1), blk%n(2), blk%n(3))
+    integer, allocatable :: boxes(:, :, :)   !< the boxes computed (none: the whole block)
     if (ls%n > 0 .and. (ph%strong(p) .or. p == cut%p)) then
       lo = 1 - blk%lay%ng
       hi = blk%n + blk%lay%ng
@@ -146,6 +147,7 @@ contains
           gf%counts%absent = gf%counts%absent + 1
           return
         end if
+        boxes = near_boxes(near, tile_cells)
       end if
       if (p == cut%p) then
         ! the cut-cell phase: the rate of its content, fluxes times the wet faces; every
@@ -176,9 +178,11 @@ contains
         cut%side(:, stage, b) = cut%side(:, stage, b) + work%bflux
         return
       end if
+      ! (with a cut-cell phase in the scene: no boxes, the whole block; an unallocated
+      ! actual argument is an absent optional one)
       call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
         blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
-        gf%work%bigphi(:, :, :, p), trouble, boxes=near_boxes(near, tile_cells))
+        gf%work%bigphi(:, :, :, p), trouble, boxes=boxes)
       if (fix%on) fix%bflux(:, p, b, stage) = work%bflux
     else
       call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
