@@ -94,11 +94,10 @@ contains
     type(material_t), intent(in) :: m
     procedure(rule_i) :: rule
     if (.not. is_set(p)) return
-    call rule(m%eos == eos_names(eos_ideal_gas) .and. p < 0.0_wp, var, 'must be >= 0 for a ' &
-      // 'gas' // in // got_text(p))
-    if (m%eos == eos_names(eos_stiffened_gas) .and. is_set(m%p_inf)) call rule(.not. &
-      p > -m%p_inf, var, &
-      'must be > -p_inf = ' // real_text(-m%p_inf) // in // got_text(p))
+    call rule(m%eos == eos_names(eos_ideal_gas) .and. p < 0.0_wp, var, &
+      'must be >= 0 for a gas' // in // got_text(p))
+    if (m%eos == eos_names(eos_stiffened_gas) .and. is_set(m%p_inf)) call rule( &
+      .not. p > -m%p_inf, var, 'must be > -p_inf = ' // real_text(-m%p_inf) // in // got_text(p))
   end subroutine gas_p_rule
 
   !> The equation of state of a material (its eos and the constants it sets; the rest keep

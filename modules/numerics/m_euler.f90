@@ -187,7 +187,7 @@ contains
           end do
         end do
       end do
-      ! (rhs is not zeroed first: the x direction's rates, rates_x, set it; the others add)
+      ! (the x direction's rates, rates_x, set the box's rhs; the others add)
       do d = 1, lay%ndim
         ! the pencils of the box along d: its cells o1 + 1 .. o1 + n, a wall only at the block's
         ! own ends
