@@ -8,6 +8,10 @@
 !> The reference curve is the Hugoniot p_H = rho0 c0^2 eta / (1 - s eta)^2,
 !> eta = 1 - rho0/rho, in compression (eta >= 0) and the linear branch rho0 c0^2 (rho/rho0 - 1)
 !> in expansion; e_H = p_H eta / (2 rho0) (Rankine-Hugoniot energy from rest at e = 0).
+!> The linear Us-up fit is singular at eta = 1 / s; beyond eta_c, where 1 - s eta falls to
+!> hugoniot_denominator_min (0.1: p_H = 100 rho0 c0^2 eta_c, some 570 GPa for HMX and 8 TPa
+!> for copper, far beyond any fit's range), p_H goes on as its tangent in eta, so that every
+!> compression has a finite pressure and a real sound speed (theory.md 2, eq. 2.4a).
 !> Polynomial Mie-Gruneisen (eq. 2.6, published-data section C): with mu = rho/rho0 - 1,
 !> p = K mu + A mu^2 + B mu^3 + gamma rho e (the A and B terms in compression only; gamma
 !> (1 + mu) rho0 e = gamma rho e).
@@ -121,7 +125,8 @@ contains
 
   !> Hugoniot pressure and energy (eq. 2.4) of a row of densities and, with dph and deh,
   !> their derivatives d/drho: mu = 1 - rho0 / rho; in compression (mu >= 0)
-  !> p_H = K mu / (1 - s mu)^2, in tension p_H = K (rho / rho0 - 1). Loops without a branch,
+  !> p_H = K mu / (1 - s mu)^2 up to mu_c = (1 - hugoniot_denominator_min) / s and its
+  !> tangent in mu beyond (eq. 2.4a), in tension p_H = K (rho / rho0 - 1). Loops without a branch,
   !> so that they vectorise (as a scalar routine called per cell it was a quarter of a solid's
   !> run): both sides are evaluated, each with its argument held to its own side
   !> (max(mu, 0), min(rho, rho0)) so that the side not taken stays finite; the side taken is
@@ -132,16 +137,19 @@ contains
     real(wp), intent(in) :: rho(n)
     real(wp), intent(out) :: ph(n), eh(n)
     real(wp), intent(out), optional :: dph(n), deh(n)
-    real(wp) :: mu, muc, den, k0, dmu
+    real(wp) :: mu, muc, den, k0, dmu, mu_c
     integer :: i
     k0 = eos%rho0 * eos%c0**2
+    mu_c = huge(1.0_wp)
+    if (eos%s > 0.0_wp) mu_c = (1.0_wp - hugoniot_denominator_min) / eos%s
     ! the compressed and the expanded branch into ph and eh first, the choice after: a division
-    ! under a condition is a branch to the compiler, which then does not vectorise the loop
+    ! under a condition is a branch to the compiler, which then does not vectorise the loop.
+    ! Beyond mu_c the tangent's term is added; below it that term is k0 (...) * 0, exactly 0
     do i = 1, n
       mu = 1.0_wp - eos%rho0 / rho(i)
-      muc = max(mu, 0.0_wp)
+      muc = min(max(mu, 0.0_wp), mu_c)
       den = 1.0_wp - eos%s * muc
-      ph(i) = k0 * muc / den**2
+      ph(i) = k0 * muc / den**2 + k0 * (1.0_wp + eos%s * muc) / den**3 * (max(mu, muc) - muc)
       eh(i) = k0 * (min(rho(i), eos%rho0) / eos%rho0 - 1.0_wp)
     end do
     do i = 1, n
@@ -152,7 +160,7 @@ contains
     if (.not. present(dph)) return
     do i = 1, n
       mu = 1.0_wp - eos%rho0 / rho(i)
-      muc = max(mu, 0.0_wp)
+      muc = min(max(mu, 0.0_wp), mu_c)
       dmu = eos%rho0 / rho(i)**2
       den = 1.0_wp - eos%s * muc
       dph(i) = k0 * (1.0_wp + eos%s * muc) / den**3 * dmu

@@ -136,8 +136,10 @@ contains
   !> the density of its state, f = C_rho / rho (at most 1; content_rho: the cut phase's mass
   !> content, whose variables start after v0 in q), and the level set's fraction alpha differ
   !> by the drift; the void's level set there moves by gain (f - alpha) h (at most h / 4 a
-  !> step), so that the void shrinks as the
-  !> material fills it. A material body's own level set is left as it is: its drift shows
+  !> step), so that the void shrinks as the material fills it. A cell whose centre is in the
+  !> void but which the material fills (fraction 1, or content at its state's density or
+  !> more) is made the material's at once (theory.md 7d), so that its own state meets its
+  !> faces. A material body's own level set is left as it is: its drift shows
   !> in its cut cells only and is harmless there (section 7c); a void's decides when and
   !> where the void closes.
   subroutine cut_follow(blk, ils, v0, ls, alpha, content_rho, gain)
@@ -185,6 +187,13 @@ contains
           end if
           rho = blk%q(i, j, k, v0 + i_rho)
           if (.not. (rho > 0.0_wp .and. content_rho(i, j, k) > 0.0_wp)) cycle
+          if (top > 0.0_wp .and. .not. content_rho(i, j, k) < rho) then
+            ! the content fills the cell at its state's density (or more), but its centre
+            ! lies in the void: the cell is the material's, as a full one is above, so that
+            ! its own state, not a ghost, meets its faces (a ghost let material pile in)
+            blk%q(i, j, k, ils + lv) = remnant * h
+            cycle
+          end if
           f = min(content_rho(i, j, k) / rho, 1.0_wp)
           d(i, j, k, lv) = max(-0.25_wp, min(0.25_wp, gain * (f - a)))
         end do

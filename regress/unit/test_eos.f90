@@ -28,6 +28,7 @@ program test_eos
   call check_eos('hmx polynomial', hmx_poly, [2000.0_wp, 2400.0_wp, 1850.0_wp], &
     [1.0e9_wp, 2.0e10_wp, -1.0e8_wp])
   call check_hugoniot()
+  call check_beyond_singular()
   copper_unprepared = copper
   call eos_prepare(copper)
   call eos_prepare(hmx_poly)
@@ -90,6 +91,71 @@ contains
       call check_error('copper Hugoniot pressure = rho0 Us up', err, 1.0e-12_wp)
     end do
   end subroutine check_hugoniot
+
+  !> The linear Us-up Hugoniot is singular at eta = 1 / s; beyond eta_c = 0.9 / s (where
+  !> 1 - s eta = 0.1) p_H goes on as its tangent in eta (theory.md eq. 2.4a). HMX (c0 2801 m/s,
+  !> s 2.362, Gamma 1.1): below eta_c the closed form to round-off; across eta_c the pressure
+  !> continuous and its slope too; to 3 rho0 (past the singular 1.73 rho0) a finite pressure
+  !> and a real sound speed, matching a finite difference, at rest energy and on the Hugoniot.
+  subroutine check_beyond_singular()
+    type(eos_t) :: hmx
+    real(wp) :: eta_c, k0, rho(1), e(1), p(1), c2(1), pl(1), pr(1), err, h, eta, sl, sr
+    integer :: m
+    character(len=8) :: ratio
+    hmx = eos_t(kind=eos_mie_gruneisen, rho0=1900.0_wp, c0=2801.0_wp, s=2.362_wp, &
+      gruneisen=1.1_wp, cv=1500.0_wp, T0=298.0_wp)
+    k0 = hmx%rho0 * hmx%c0**2
+    eta_c = 0.9_wp / hmx%s
+    eta = 0.8_wp * eta_c
+    rho = hmx%rho0 / (1.0_wp - eta)
+    call eos_pressure(hmx, 1, rho, [0.0_wp], p)
+    err = abs(p(1) - (k0 * eta / (1.0_wp - hmx%s * eta)**2 &
+      - hmx%gruneisen * hmx%rho0 * 0.5_wp * k0 * eta**2 / (1.0_wp - hmx%s * eta)**2 / hmx%rho0)) &
+      / abs(p(1))
+    call check_error('hmx below eta_c: the Us-up Hugoniot as it was', err, 1.0e-13_wp)
+    ! the pressure at e = 0 on each side of eta_c, and its slope in eta from each side
+    h = 1.0e-6_wp
+    call p_at(hmx, eta_c - h, pl)
+    call p_at(hmx, eta_c + h, pr)
+    call check_error('hmx p continuous across eta_c', abs(pr(1) - pl(1)) / abs(pl(1)), 1.0e-4_wp)
+    call p_at(hmx, eta_c - 2.0_wp * h, p)
+    sl = (pl(1) - p(1)) / h
+    call p_at(hmx, eta_c + 2.0_wp * h, p)
+    sr = (p(1) - pr(1)) / h
+    call check_error('hmx dp/deta continuous across eta_c', abs(sr - sl) / abs(sl), 1.0e-3_wp)
+    do m = 1, 5
+      rho = hmx%rho0 * (1.5_wp + 0.375_wp * (m - 1))
+      eta = 1.0_wp - hmx%rho0 / rho(1)
+      e = 0.0_wp
+      if (mod(m, 2) == 0) then
+        call eos_pressure(hmx, 1, rho, e, p)
+        e = 0.5_wp * p(1) * eta / hmx%rho0
+      end if
+      call eos_pressure(hmx, 1, rho, e, p)
+      call eos_sound_speed2(hmx, 1, rho, p, c2)
+      write(ratio, '(f5.3)') rho(1) / hmx%rho0
+      call check('hmx at rho / rho0 = ' // trim(ratio) // ': p finite and c^2 > 0', abs(p(1)) < huge(1.0_wp) .and. c2(1) > 0.0_wp &
+        .and. c2(1) < huge(1.0_wp))
+      h = 1.0e-7_wp * rho(1)
+      call eos_pressure(hmx, 1, rho + h, e, pr)
+      call eos_pressure(hmx, 1, rho - h, e, pl)
+      sl = (pr(1) - pl(1)) / (2.0_wp * h)
+      h = 1.0e3_wp   ! (p is linear in e: a large step, clear of round-off)
+      call eos_pressure(hmx, 1, rho, e + h, pr)
+      call eos_pressure(hmx, 1, rho, e - h, pl)
+      sr = (pr(1) - pl(1)) / (2.0_wp * h)
+      err = abs(c2(1) - (sl + p(1) / rho(1)**2 * sr)) / c2(1)
+      call check_error('hmx beyond eta_c: sound speed against finite difference', err, 1.0e-5_wp)
+    end do
+  end subroutine check_beyond_singular
+
+  !> the pressure of eos at e = 0 and eta = 1 - rho0 / rho
+  subroutine p_at(eos, eta, p)
+    type(eos_t), intent(in) :: eos
+    real(wp), intent(in) :: eta
+    real(wp), intent(out) :: p(1)
+    call eos_pressure(eos, 1, [eos%rho0 / (1.0_wp - eta)], [0.0_wp], p)
+  end subroutine p_at
 
   !> Test (1) and (4): e_s(rho) by the implicit trapezoid rule in v = 1/rho on
   !> de/dv = -p(rho, e) with p linear in e (slope gamma_rho), 10^5 steps from v0; there
