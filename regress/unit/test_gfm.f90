@@ -10,7 +10,10 @@
 !> on an axisymmetric block cut by a slanted surface: the content of a uniform state is its
 !> density times the volume fractions' sum, and after a fix with factor fm and energy
 !> coefficients the measured mass moves by (fm - 1) times the surface mass and the energy by
-!> what the coefficients say (1e-12), with velocity and specific stress unchanged.
+!> what the coefficients say (1e-12), with velocity and specific stress unchanged; (5) a
+!> void's level set following the content (m_gfm_cut_close's cut_follow, theory.md 7c-7d): a
+!> cut cell whose centre lies in the void is made the material's (phi = 0.01 h) when its
+!> content fills it at its state's density, and only moved towards its content when not.
 program test_gfm
   use m_kinds, only: wp
   use m_comm, only: comm_init
@@ -21,6 +24,9 @@ program test_gfm
   use m_gfm_conserve, only: content_block, fix_block, n_content
   use m_layout, only: layout_t, layout_init
   use m_state, only: n_solid, i_rho, i_mx, i_my, i_en, i_sxx
+  use m_blocks, only: block_t
+  use m_levelset_bodies, only: ls_set_t, ls_void
+  use m_gfm_cut_close, only: cut_follow
   implicit none
   call comm_init()
   call check_start('test_gfm', show_passes=.true.)
@@ -29,9 +35,48 @@ program test_gfm
   call check_classes(2)
   call check_classes(3)
   call check_conserve()
+  call check_follow()
   call check_done()
 
 contains
+
+  !> Two cut cells at fraction 0.9 with their centres 0.2 h inside a void: A's content fills
+  !> it at its state's density (2000 kg/m^3), B's half of it. A is closed at once; B's level
+  !> set moves towards its content (the void grows there) and its centre stays in the void.
+  !> Before 2026-12-06 A too was only moved, by 0.025 h, and kept a ghost state at its faces.
+  subroutine check_follow()
+    integer, parameter :: n = 8, ils = 10
+    type(block_t) :: blk
+    type(ls_set_t) :: ls
+    real(wp) :: alpha(n, n, 1), crho(n, n, 1), h
+    integer :: ng(3)
+    call layout_init(blk%lay, 2, [n, n, 1], [n, n, 1], [0.0_wp, 0.0_wp, 0.0_wp], &
+      [1.0e-6_wp * n, 1.0e-6_wp * n, 1.0_wp], [.false., .false., .false.], .false.)
+    blk%n = [n, n, 1]
+    ng = blk%lay%ng
+    allocate(blk%q(1-ng(1):n+ng(1), 1-ng(2):n+ng(2), 1:1, ils + 1))
+    h = 1.0e-6_wp
+    blk%q = 0.0_wp
+    blk%q(:, :, :, ils + 1) = 3.0_wp * h      ! the material, far from the void
+    blk%q(:, :, :, i_rho) = 2000.0_wp
+    alpha = 1.0_wp
+    crho = 2000.0_wp
+    ls%n = 1
+    ls%kind = [ls_void]
+    ! cell A (3, 3): content fills it; cell B (6, 6): half full
+    alpha(3, 3, 1) = 0.9_wp
+    alpha(6, 6, 1) = 0.9_wp
+    blk%q(3, 3, 1, ils + 1) = -0.2_wp * h
+    blk%q(6, 6, 1, ils + 1) = -0.2_wp * h
+    crho(6, 6, 1) = 1000.0_wp
+    call cut_follow(blk, ils, 0, ls, alpha, crho, 1.0_wp)
+    call check('follow: a cut cell its content fills is made the material''s (phi = 0.01 h)', &
+      abs(blk%q(3, 3, 1, ils + 1) - 0.01_wp * h) < 1.0e-12_wp * h)
+    call check('follow: a half-filled cut cell moves towards its content, centre still in the void', &
+      blk%q(6, 6, 1, ils + 1) < -0.2_wp * h)
+    call check('follow: full cells of the material far from the void untouched', &
+      abs(blk%q(1, 1, 1, ils + 1) - 3.0_wp * h) < 1.0e-12_wp * h)
+  end subroutine check_follow
 
   subroutine check_probes(nd)
     integer, intent(in) :: nd
