@@ -86,10 +86,15 @@ contains
       sim%diag%step_failed = comm_any(failed)
       if (sim%diag%step_failed) exit
     end do
-    ! a cut-cell phase's content into states (m_gfm_cut; nothing to do without one)
-    if (.not. sim%diag%step_failed) call phase_states(sim%gf, sim%cut, sim%ls, sim%ph, &
-      sim%plan, sim%lay, sim%bc, sim%blocks, sim%clk%time + sim%clk%dt, sim%clk%dt, &
-      sim%cfg%rk_order, sim%cfg%thermal, states_end, sim%diag%step_failed)
+    ! a cut-cell phase's content into states (m_gfm_cut; nothing to do without one), timed
+    ! with the ghost fill, which holds the cut path's other passes
+    if (.not. sim%diag%step_failed) then
+      call timer_start(sim%timers, 'gfm')
+      call phase_states(sim%gf, sim%cut, sim%ls, sim%ph, sim%plan, sim%lay, sim%bc, &
+        sim%blocks, sim%clk%time + sim%clk%dt, sim%clk%dt, sim%cfg%rk_order, &
+        sim%cfg%thermal, states_end, sim%diag%step_failed)
+      call timer_stop(sim%timers, 'gfm')
+    end if
     ! heat conduction and reaction, once per step (m_phase_heat; only when the deck has them)
     if ((sim%ph%has_conduction .or. sim%ph%has_reaction) .and. .not. sim%diag%step_failed) then
       call timer_start(sim%timers, 'heat')
