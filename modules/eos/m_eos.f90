@@ -145,11 +145,12 @@ contains
     ! the compressed and the expanded branch into ph and eh first, the choice after: a division
     ! under a condition is a branch to the compiler, which then does not vectorise the loop.
     ! Beyond mu_c the tangent's term is added; below it that term is k0 (...) * 0, exactly 0
+    ! (mu_c is huge without an s: no tangent)
     do i = 1, n
       mu = 1.0_wp - eos%rho0 / rho(i)
       muc = min(max(mu, 0.0_wp), mu_c)
       den = 1.0_wp - eos%s * muc
-      ph(i) = k0 * muc / den**2 + k0 * (1.0_wp + eos%s * muc) / den**3 * (max(mu, muc) - muc)
+      ph(i) = k0 * muc / den**2 + k0 * (1.0_wp + eos%s * muc) / den**3 * max(mu - mu_c, 0.0_wp)
       eh(i) = k0 * (min(rho(i), eos%rho0) / eos%rho0 - 1.0_wp)
     end do
     do i = 1, n

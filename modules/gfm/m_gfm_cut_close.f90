@@ -177,23 +177,18 @@ contains
           ! (a material body's surface, where one lies nearer than the void's)
           if (any(ls%kind == ls_material .and. blk%q(i, j, k, ils + 1:ils + nl) &
             < -top)) cycle
-          if (.not. a < full) then
-            ! every corner of the cell lies in the material, but the void's level set dips
-            ! below zero at its centre: a remnant of the void narrower than the cell. The
-            ! cell is the material's (its centre made so): as a void cell its state would be
-            ! a ghost state and its content, which the fluxes fill, would not push back
+          rho = blk%q(i, j, k, v0 + i_rho)
+          if (.not. a < full .or. (top > 0.0_wp .and. rho > 0.0_wp .and. &
+              .not. content_rho(i, j, k) < rho)) then
+            ! the material fills the cell (every corner of it in the material, or its
+            ! content at its state's density or more), but the void's level set dips below
+            ! zero at its centre: a remnant of the void narrower than the cell. The cell is
+            ! the material's (its centre made so): as a void cell its state would be a ghost
+            ! state and its content, which the fluxes fill, would not push back
             if (top > 0.0_wp) blk%q(i, j, k, ils + lv) = remnant * h
             cycle
           end if
-          rho = blk%q(i, j, k, v0 + i_rho)
           if (.not. (rho > 0.0_wp .and. content_rho(i, j, k) > 0.0_wp)) cycle
-          if (top > 0.0_wp .and. .not. content_rho(i, j, k) < rho) then
-            ! the content fills the cell at its state's density (or more), but its centre
-            ! lies in the void: the cell is the material's, as a full one is above, so that
-            ! its own state, not a ghost, meets its faces (a ghost let material pile in)
-            blk%q(i, j, k, ils + lv) = remnant * h
-            cycle
-          end if
           f = min(content_rho(i, j, k) / rho, 1.0_wp)
           d(i, j, k, lv) = max(-0.25_wp, min(0.25_wp, gain * (f - a)))
         end do

@@ -134,8 +134,8 @@ contains
       call eos_pressure(hmx, 1, rho, e, p)
       call eos_sound_speed2(hmx, 1, rho, p, c2)
       write(ratio, '(f5.3)') rho(1) / hmx%rho0
-      call check('hmx at rho / rho0 = ' // trim(ratio) // ': p finite and c^2 > 0', abs(p(1)) < huge(1.0_wp) .and. c2(1) > 0.0_wp &
-        .and. c2(1) < huge(1.0_wp))
+      call check('hmx at rho / rho0 = ' // trim(ratio) // ': p finite and c^2 > 0', &
+        abs(p(1)) < huge(1.0_wp) .and. c2(1) > 0.0_wp .and. c2(1) < huge(1.0_wp))
       h = 1.0e-7_wp * rho(1)
       call eos_pressure(hmx, 1, rho + h, e, pr)
       call eos_pressure(hmx, 1, rho - h, e, pl)

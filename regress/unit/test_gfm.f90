@@ -72,7 +72,8 @@ contains
     call cut_follow(blk, ils, 0, ls, alpha, crho, 1.0_wp)
     call check('follow: a cut cell its content fills is made the material''s (phi = 0.01 h)', &
       abs(blk%q(3, 3, 1, ils + 1) - 0.01_wp * h) < 1.0e-12_wp * h)
-    call check('follow: a half-filled cut cell moves towards its content, centre still in the void', &
+    call check('follow: a half-filled cut cell moves towards its content, centre still ' // &
+      'in the void', &
       blk%q(6, 6, 1, ils + 1) < -0.2_wp * h)
     call check('follow: full cells of the material far from the void untouched', &
       abs(blk%q(1, 1, 1, ils + 1) - 3.0_wp * h) < 1.0e-12_wp * h)
