@@ -166,7 +166,7 @@ contains
     integer, intent(inout) :: nf
     logical, intent(inout) :: failed
     logical, intent(in), optional :: trouble(:, :, :)
-    integer :: p
+    integer :: p, kept(2)
     do p = 1, sim%ph%nphase
       call phase_rhs(sim%gf, sim%cut, sim%ls, sim%ph, sim%num, sim%fix, sim%blocks(b), b, p, &
         stage, wall, vwall, sim%wk%euler, nf, failed, trouble)
@@ -174,14 +174,17 @@ contains
     if (failed) return
     if (sim%ls%n > 0) call levelset_rates(sim%lay, sim%ls, sim%ph, sim%cfg%band, &
       sim%blocks(b), sim%gf%vel, sim%gf%ls_rhs, sim%gf%work%bigphi, sim%gf%work%owner)
+    ! (a cut-cell phase's variables are only kept: its own update makes its stage content)
+    kept = [1, 0]
+    if (sim%cut%on) kept = [sim%ph%lo(sim%cut%p), sim%ph%hi(sim%cut%p)]
     associate (blk => sim%blocks(b))
       ! the stage input is kept for the cell-local fallback (at stage 1 it is q0 anyway)
       if (stage > 1) then
         call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%clk%dt, blk%q, blk%q0, &
-          blk%rhs, sim%wk%qsave)
+          blk%rhs, sim%wk%qsave, kept=kept)
       else
         call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%clk%dt, blk%q, blk%q0, &
-          blk%rhs)
+          blk%rhs, kept=kept)
       end if
     end associate
     call phase_corrections(sim%gf, sim%cut, sim%ls, sim%ph, sim%fix, sim%blocks(b), b, stage, &

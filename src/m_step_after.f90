@@ -74,6 +74,8 @@ contains
       call timer_start(sim%timers, 'reinit')
       call levelset_reinitialise(sim%plan, sim%lay, sim%bc, sim%ph, sim%blocks, moves, &
         sim%cfg%band, sim%clk%time, sim%gf%dormant)
+      ! (the cut-cell geometry of the level sets before it no longer holds)
+      if (allocated(sim%cut%kept)) sim%cut%kept = .false.
       call timer_stop(sim%timers, 'reinit')
     end if
     if (sim%fix%on .and. ok) then

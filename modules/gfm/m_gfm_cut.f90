@@ -8,8 +8,10 @@
 !> the reconstruction stencils.
 !>
 !> Between the stages of a step the phase's variables in q hold its content, so that the
-!> halo exchange carries content; at the start of each later stage, and once after the last
-!> one, cut_open turns content into states: the geometry from the level set (m_levelset_cut),
+!> halo exchange carries content (within near_reach cells of the cells it can reach; deeper in
+!> a block's dry part they keep a state, which nothing reads as content and the ghost fill's
+!> rest state replaces: m_gfm_cut_box); at the start of each later stage, and once after the
+!> last one, cut_open turns content into states: the geometry from the level set (m_levelset_cut),
 !> small cells (alpha < small) mixed with their largest face neighbour (the group takes the
 !> mean state sum(C V) / sum(alpha V), which keeps every group's content), U = C / alpha.
 !> Mixing needs the content and fractions three cells into the halo, which the four-deep
@@ -37,11 +39,18 @@ module m_gfm_cut
   use m_gfm_cut_close, only: relax_closing
   use m_gfm_cut_geometry, only: cut_block_geometry
   use m_gfm_cut_work, only: cut_work_t, fit_work
-  use m_gfm_cut_box, only: box_union, box_nonzero, box_whole, stage_content, put_states
+  use m_gfm_cut_box, only: box_union, box_nonzero, box_whole, box_empty, stage_content, &
+    put_states, near_cells, box_grown
   implicit none
   private
   public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update, cut_content
-  public :: cut_strand, cut_scalars, cut_boxes
+  public :: cut_strand, cut_scalars, cut_boxes, cut_near
+
+  !> the dry cells kept up to date around the box of the content and the geometry's
+  !> (m_gfm_cut_box's near_cells): the passes read the content only in the box (theirs, the
+  !> next open's) and in wet cells, and the surface moves less than a cell in a stage, so that
+  !> the next open's box lies within a cell of these; one cell more as a margin
+  integer, parameter :: near_reach = 2
 
   !> A block's fractions over the padded block less its outer layer (for the mixing).
   type :: fraction_t
@@ -80,7 +89,22 @@ module m_gfm_cut
     !> c is zero (boxed: made by cut_update, which scans c0 at a step's first stage), the
     !> cells whose rate phase_rhs computed (beyond: +0), the cells the geometry cut
     integer, allocatable :: box(:, :, :), rate_box(:, :, :), wet_box(:, :, :)
+    !> (2, 3, block) the box near which cut_update wrote q (its box and geo_box: the dry
+    !> cells near it hold zero content until the next open puts their states)
+    integer, allocatable :: near_box(:, :, :)
+    !> (2, 3, block) the wet box before it is cut to the block's cells: where it lies in the
+    !> halo, the cells the surface may reach from a neighbour within a stage
+    integer, allocatable :: geo_box(:, :, :)
+    !> (2, 3, block) the cells whose states in q the last open put (beyond it q is as the
+    !> halo exchange before the open found it): what its neighbours' halos take again
+    integer, allocatable :: put_box(:, :, :)
     logical, allocatable :: boxed(:)
+    !> (block) its geometry is that of the level sets as they are: made at the last step's
+    !> end, and nothing has moved them since (no void's surface followed its content, no
+    !> reinitialisation: m_step_after), so the next step's first stage takes it as it is
+    logical, allocatable :: kept(:)
+    !> (block) it woke at this stage, after the geometry was made (m_gfm_stage)
+    logical, allocatable :: woke(:)
   end type cut_t
 
 contains
@@ -147,6 +171,7 @@ contains
       cut%faces(b), alpha_e, box)
     cut%wet_box(1, :, b) = max(box(1, :), 1)
     cut%wet_box(2, :, b) = min(box(2, :), blk%n)
+    cut%geo_box(:, :, b) = box
   end subroutine cut_geometry
 
   !> Content into states on block blk (number b), after the halo exchange: q's phase
@@ -154,7 +179,8 @@ contains
   !> interior's content kept in cut%c and its states U = C / alpha put into q. failed: a
   !> state with rho <= 0 or an energy that is not finite. Beyond box (m_gfm_cut_box) every
   !> cell is dry and its content +0 in q and in cut%c: it takes the step start's state.
-  subroutine cut_open(cut, b, blk, ph, alpha_e, open_side, final, failed, bigphi, owner, box)
+  subroutine cut_open(cut, b, blk, ph, alpha_e, open_side, final, failed, bigphi, owner, box, &
+      band)
     type(cut_t), intent(inout) :: cut
     integer, intent(in) :: b
     type(block_t), intent(inout) :: blk
@@ -166,10 +192,11 @@ contains
     real(wp), intent(in) :: bigphi(:, :, :)   !< the phase's level set over the padded block
     integer, intent(in) :: owner(:, :, :)     !< whose surface (ls_region; 0: a void's)
     integer, intent(in) :: box(2, 3)
+    real(wp), intent(in) :: band              !< the ghost band's width (m_gfm)
     real(wp), allocatable :: vol(:)
     integer :: kind(blk%n(1), blk%n(2), blk%n(3))
     logical :: member(blk%n(1), blk%n(2), blk%n(3))
-    integer :: e(3), n(3), i, j, k, lo, nf, m
+    integer :: e(3), n(3), g(3), i, j, k, lo, nf, m
     real(wp) :: cc(ph%nflow), tally(2)
     logical :: relaxed
     lo = ph%lo(cut%p)
@@ -228,6 +255,19 @@ contains
           end do
         end do
       end do
+      ! the dry cells whose states are put: those near the box or near where the stage's
+      ! update wrote zero content (cut_update); the others (deep in the dry part) keep
+      ! theirs only where the ghost fill puts the rest state on them next (beyond the band:
+      ! m_gfm's gfm_fill, gfm_rest at the step's end), which nothing reads before; otherwise
+      ! all
+      g = lay%ng
+      call near_cells(box_union(box, cut%near_box(:, :, b)), near_reach, n, cut%work%near)
+      cut%put_box(:, :, b) = box_grown(box_union(box, cut%near_box(:, :, b)), near_reach, n)
+      if (any(.not. cut%work%near .and. .not. bigphi(1+g(1):n(1)+g(1), 1+g(2):n(2)+g(2), &
+        1+g(3):n(3)+g(3)) > band)) then
+        cut%work%near = .true.
+        cut%put_box(:, :, b) = box_whole(n)
+      end if
       do m = 1, nf
         if (final) then
           do k = box(1, 3), box(2, 3)
@@ -237,7 +277,7 @@ contains
             end do
           end do
         end if
-        call put_states(box, kind, &
+        call put_states(box, cut%work%near, kind, &
           alpha_e(1+e(1):n(1)+e(1), 1+e(2):n(2)+e(2), 1+e(3):n(3)+e(3)), &
           cut%c(1:n(1), 1:n(2), 1:n(3), m, b), blk%q0(:, :, :, lo + m - 1), &
           q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
@@ -267,10 +307,16 @@ contains
     !> (cut%work%rho) for the cut cells' densities, which are made after q holds states.
     subroutine contents(cq)
       real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
-      integer :: ii, jj, kk, r(3), mm
+      integer :: ii, jj, kk, r(3), mm, rl(3), rh(3)
       real(wp) :: sum_c(ph%nflow), sum_a, least
       call fit_work(cut%work%rho, 1 - blk%lay%ng, n + blk%lay%ng)
-      cut%work%rho = cq(:, :, :, i_rho)
+      ! (full_density reads it within two cells of a cut cell of the box)
+      if (all(box(1, :) <= box(2, :))) then
+        rl = max(box(1, :) - 2, 1 - blk%lay%ng)
+        rh = min(box(2, :) + 2, n + blk%lay%ng)
+        cut%work%rho(rl(1):rh(1), rl(2):rh(2), rl(3):rh(3)) = &
+          cq(rl(1):rh(1), rl(2):rh(2), rl(3):rh(3), i_rho)
+      end if
       ! the fractions the groups are formed by: a wet cell whose content fills less of it
       ! than its fraction says (a surface the level set has moved ahead of the material, as
       ! where a void closes) counts by its content, at the phase's rest density
@@ -451,38 +497,72 @@ contains
     type(phases_t), intent(in) :: ph
     real(wp), intent(in) :: dt
     real(wp) :: a
-    integer :: lo, n(3), m
+    integer :: lo, n(3), m, pb(2, 3), nz(2, 3)
     lo = ph%lo(cut%p)
     n = blk%n
     a = 0.0_wp
     if (stage > 1) a = rk_blend(stage, order)
     ! the content's box: at a step's first stage that of c0 (a restart, a rebalance or a
-    ! block that woke may have brought it), then what the stages and opens added
+    ! block that woke may have brought it: the whole block scanned; else c0 is zero beyond
+    ! the box of the step before, which alone is), then what the stages and opens added
     if (stage == 1) then
-      cut%box(:, :, b) = box_nonzero(cut%c0(1:n(1), 1:n(2), 1:n(3), :, b))
+      pb = box_whole(n)
+      if (cut%boxed(b)) pb = cut%box(:, :, b)
+      cut%box(:, :, b) = box_empty
+      if (all(pb(1, :) <= pb(2, :))) then
+        nz = box_nonzero(cut%c0(pb(1, 1):pb(2, 1), pb(1, 2):pb(2, 2), pb(1, 3):pb(2, 3), :, b))
+        if (all(nz(1, :) <= nz(2, :))) cut%box(:, :, b) = nz + spread(pb(1, :) - 1, 1, 2)
+      end if
     else if (.not. cut%boxed(b)) then
       cut%box(:, :, b) = box_whole(n)
     end if
     cut%box(:, :, b) = box_union(cut%box(:, :, b), cut%rate_box(:, :, b))
     cut%boxed(b) = .true.
+    ! (the dry cells deep in the block keep their states: m_gfm_cut_box; the next open reads
+    ! the content over this box and the cells the surface may wet then, which lie within a
+    ! cell of those it may wet now, in the block or in its halo: geo_box)
+    cut%near_box(:, :, b) = box_union(cut%box(:, :, b), cut%geo_box(:, :, b))
+    ! (a block that woke at this stage has no wet box of this stage: every cell)
+    if (cut%woke(b)) cut%near_box(:, :, b) = box_whole(n)
+    cut%woke(b) = .false.
+    call near_cells(cut%near_box(:, :, b), near_reach, n, cut%work%near)
     ! (variable by variable, the content and q's copy of it in one pass)
     do m = 1, ph%nflow
-      call stage_content(stage == 1, a, dt, cut%box(:, :, b), &
+      call stage_content(stage == 1, a, dt, cut%box(:, :, b), cut%work%near, &
         cut%c0(1:n(1), 1:n(2), 1:n(3), m, b), blk%rhs(:, :, :, lo + m - 1), &
         cut%c(1:n(1), 1:n(2), 1:n(3), m, b), blk%q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
     end do
   end subroutine cut_update
+
+  !> The cells of block b (of n cells) whose phase variables in q the last cut_update may
+  !> have written (beyond them q holds what it held before the update)
+  pure function cut_near(cut, b, n) result(box)
+    type(cut_t), intent(in) :: cut
+    integer, intent(in) :: b, n(3)
+    integer :: box(2, 3)
+    box = box_grown(cut%near_box(:, :, b), near_reach, n)
+  end function cut_near
 
   !> The boxes sized for nb blocks, none boxed: at the setup, and again when the blocks
   !> changed (m_rebalance), since a block's box is its own.
   subroutine cut_boxes(cut, nb)
     type(cut_t), intent(inout) :: cut
     integer, intent(in) :: nb
-    if (allocated(cut%boxed)) deallocate(cut%box, cut%rate_box, cut%wet_box, cut%boxed)
-    allocate(cut%box(2, 3, nb), cut%rate_box(2, 3, nb), cut%wet_box(2, 3, nb), cut%boxed(nb))
+    if (allocated(cut%boxed)) deallocate(cut%box, cut%rate_box, cut%wet_box, cut%near_box, &
+      cut%put_box, cut%boxed, cut%kept, cut%woke, cut%geo_box)
+    allocate(cut%box(2, 3, nb), cut%rate_box(2, 3, nb), cut%wet_box(2, 3, nb), &
+      cut%near_box(2, 3, nb), cut%put_box(2, 3, nb), cut%boxed(nb), cut%kept(nb), &
+      cut%woke(nb), cut%geo_box(2, 3, nb))
+    cut%geo_box(1, :, :) = 1   ! (none)
+    cut%geo_box(2, :, :) = 0
+    cut%kept = .false.
+    cut%woke = .false.
+    cut%put_box = 0
     cut%box = 0
     cut%rate_box = 0
     cut%wet_box = 0
+    cut%near_box(1, :, :) = 1   ! (none)
+    cut%near_box(2, :, :) = 0
     cut%boxed = .false.
   end subroutine cut_boxes
 

@@ -6,11 +6,16 @@
 !> (stage_content, put_states, m_gfm_cut) compute only the box, where a body fills a few
 !> blocks' corners. The states beyond it are assumed finite (0 times a state is a zero).
 !> Boxes are m_gfm_cut's to keep; the kernels here take arrays and a box and nothing else.
+!> Of the dry cells beyond the box, the passes write the phase's variables in q only where
+!> something may read them (near_cells: near the box); deep in a block's dry part q keeps
+!> its state, which the ghost fill or the rest state makes again before anything reads it
+!> (m_gfm_cut's cut_open).
 module m_gfm_cut_box
   use m_kinds, only: wp
   implicit none
   private
   public :: box_union, box_nonzero, box_below, box_whole, box_empty, stage_content, put_states
+  public :: near_cells, box_grown
 
   !> a box without a cell
   integer, parameter :: box_empty(2, 3) = reshape([1, 0, 1, 0, 1, 0], [2, 3])
@@ -86,21 +91,54 @@ contains
     end do
   end function box_where
 
+  !> The cells of a block of n cells (near, over its interior) within reach cells of box: the dry cells
+  !> beyond the box that the stage's passes keep up to date. (A cell of the halo is read as
+  !> content only near a wet cell of the block that reads it, and the box of the block it
+  !> belongs to holds every cell within a cell of one wet in its halo: m_gfm_cut_geometry.)
+  pure subroutine near_cells(box, reach, n, near)
+    integer, intent(in) :: box(2, 3), reach, n(3)
+    logical, allocatable, intent(inout) :: near(:, :, :)   !< (sized to n when it is not)
+    integer :: g(2, 3)
+    if (allocated(near)) then
+      if (any(shape(near) /= n)) deallocate(near)
+    end if
+    if (.not. allocated(near)) allocate(near(n(1), n(2), n(3)))
+    near = .false.
+    g = box_grown(box, reach, n)
+    if (any(g(1, :) > g(2, :))) return
+    near(g(1, 1):g(2, 1), g(1, 2):g(2, 2), g(1, 3):g(2, 3)) = .true.
+  end subroutine near_cells
+
+  !> box grown by reach cells along each direction, within a block of n cells (empty stays
+  !> empty)
+  pure function box_grown(box, reach, n) result(g)
+    integer, intent(in) :: box(2, 3), reach, n(3)
+    integer :: g(2, 3)
+    g = box
+    if (any(box(1, :) > box(2, :))) return
+    g(1, :) = max(box(1, :) - reach, 1)
+    g(2, :) = min(box(2, :) + reach, n)
+  end function box_grown
+
   !> One variable's content c after a stage from the step start's c0 and the rate r (first:
   !> the first stage, c0 + dt r; else a c0 + (1 - a) (c + dt r)), and its copy u. Beyond the
-  !> box (c0 and c zero, r +0) both are +0, which is what the sums give there.
-  subroutine stage_content(first, a, dt, box, c0, r, c, u)
+  !> box (c0 and c zero, r +0) both are +0, which is what the sums give there: c everywhere,
+  !> u where near (near_cells; elsewhere u keeps the stage's input state).
+  subroutine stage_content(first, a, dt, box, near, c0, r, c, u)
     logical, intent(in) :: first
     real(wp), intent(in) :: a, dt, c0(:, :, :), r(:, :, :)
     integer, intent(in) :: box(2, 3)
+    logical, intent(in) :: near(:, :, :)
     real(wp), intent(inout) :: c(:, :, :)
-    real(wp), intent(out) :: u(:, :, :)
+    real(wp), intent(inout) :: u(:, :, :)
     integer :: i, j, k, i0, i1
     do k = 1, size(c, 3)
       do j = 1, size(c, 2)
         call box_row(box, j, k, i0, i1)
         c(:i0 - 1, j, k) = 0.0_wp
-        u(:i0 - 1, j, k) = 0.0_wp
+        do i = 1, i0 - 1
+          if (near(i, j, k)) u(i, j, k) = 0.0_wp
+        end do
         if (first) then
           do i = i0, i1
             c(i, j, k) = c0(i, j, k) + dt * r(i, j, k)
@@ -113,29 +151,37 @@ contains
           end do
         end if
         c(i1 + 1:, j, k) = 0.0_wp
-        u(i1 + 1:, j, k) = 0.0_wp
+        do i = i1 + 1, size(c, 1)
+          if (near(i, j, k)) u(i, j, k) = 0.0_wp
+        end do
       end do
     end do
   end subroutine stage_content
 
   !> One variable's states u of the full cells (kind 1: content c over fraction alpha) and
-  !> of the cells without material (kind 0: the step start's, u0); the cut cells' (kind 2)
-  !> are left. (Every cell of the box is written and no fraction but a full cell's divides,
-  !> so that the loop runs without branches; beyond the box every cell is of kind 0.)
-  subroutine put_states(box, kind, alpha, c, u0, u)
+  !> of the cells without material (kind 0: the step start's, u0, beyond the box where near);
+  !> the cut cells' (kind 2) are left. (Every cell of the box is written and no fraction but a
+  !> full cell's divides, so that the loop runs without branches; beyond the box every cell is
+  !> of kind 0.)
+  subroutine put_states(box, near, kind, alpha, c, u0, u)
     integer, intent(in) :: box(2, 3), kind(:, :, :)
+    logical, intent(in) :: near(:, :, :)
     real(wp), intent(in) :: alpha(:, :, :), c(:, :, :), u0(:, :, :)
     real(wp), intent(inout) :: u(:, :, :)
     integer :: i, j, k, i0, i1
     do k = 1, size(u, 3)
       do j = 1, size(u, 2)
         call box_row(box, j, k, i0, i1)
-        u(:i0 - 1, j, k) = u0(:i0 - 1, j, k)
+        do i = 1, i0 - 1
+          if (near(i, j, k)) u(i, j, k) = u0(i, j, k)
+        end do
         do i = i0, i1
           u(i, j, k) = merge(c(i, j, k) / merge(alpha(i, j, k), 1.0_wp, kind(i, j, k) == 1), &
             merge(u0(i, j, k), u(i, j, k), kind(i, j, k) == 0), kind(i, j, k) == 1)
         end do
-        u(i1 + 1:, j, k) = u0(i1 + 1:, j, k)
+        do i = i1 + 1, size(u, 1)
+          if (near(i, j, k)) u(i, j, k) = u0(i, j, k)
+        end do
       end do
     end do
   end subroutine put_states

@@ -193,13 +193,14 @@ contains
   !> cut_open, unless no block's content changed: changed, bit for bit). Content with no wet
   !> neighbour stays (cut_open counts it as stranded). Beyond box (m_gfm_cut_box) every cell
   !> is dry and holds no content: none moves there.
-  subroutine cut_donate(blk, ph, p, alpha_e, alpha_prev, box, changed)
+  subroutine cut_donate(blk, ph, p, alpha_e, alpha_prev, box, changed, cbox)
     type(block_t), intent(inout) :: blk
     type(phases_t), intent(in) :: ph
     integer, intent(in) :: p
     real(wp), intent(in) :: alpha_e(:, :, :), alpha_prev(:, :, :)
     integer, intent(in) :: box(2, 3)
     logical, intent(out) :: changed
+    integer, intent(out) :: cbox(2, 3)   !< the box of the cells that changed (empty: none)
     real(wp), allocatable :: given(:, :)   !< (variable, listed cell) its new content
     integer, allocatable :: at(:, :)       !< (3, listed cell) where it is
     logical :: moving(blk%n(1), blk%n(2), blk%n(3))
@@ -239,10 +240,16 @@ contains
       call exchange(q(:, :, :, lo:lo + nf - 1))
       ! (most moving cells give and take nothing: their content comes back as it was)
       changed = .false.
+      cbox(1, :) = n + 1
+      cbox(2, :) = 0
       do l = 1, size(at, 2)
         do m = 1, nf
           if (transfer(given(m, l), 1_i8) /= transfer(q(at(1, l), at(2, l), at(3, l), &
-            lo + m - 1), 1_i8)) changed = .true.
+            lo + m - 1), 1_i8)) then
+            changed = .true.
+            cbox(1, :) = min(cbox(1, :), at(:, l))
+            cbox(2, :) = max(cbox(2, :), at(:, l))
+          end if
         end do
         q(at(1, l), at(2, l), at(3, l), lo:lo + nf - 1) = given(:, l)
       end do

@@ -14,7 +14,7 @@ module m_gfm_cut_geometry
   use m_levelset_cut, only: levelset_cut
   use m_gfm_cut_cells, only: full
   use m_gfm_cut_work, only: cut_work_t, fit_work
-  use m_gfm_cut_box, only: box_below
+  use m_gfm_cut_box, only: box_below, box_union, box_empty
   implicit none
   private
   public :: cut_block_geometry
@@ -37,7 +37,7 @@ contains
     type(cut_faces_t), intent(inout) :: f
     real(wp), allocatable, intent(inout) :: alpha_e(:, :, :)
     integer, intent(out) :: box(2, 3)
-    integer :: e(3), ne(3), g1(3), d, l, c
+    integer :: e(3), ne(3), g1(3), d, l, c, fresh(2, 3), cb(2, 3)
     logical :: extended, refit
     real(wp) :: r0
     e = max(lay%ng - 1, 0)
@@ -89,13 +89,32 @@ contains
       call cut_box(bigphi)
     end if
     work%box = box
-    f%ax = work%ax(0:n(1), 1:n(2), 1:n(3))
-    f%ay = work%ay(1:n(1), 0:n(2), 1:n(3))
-    f%az = work%az(1:n(1), 1:n(2), 0:n(3))
-    f%alpha = alpha_e(1:n(1), 1:n(2), 1:n(3))
-    f%plane = work%plane(1:n(1), 1:n(2), 1:n(3))
-    f%partial = alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) > 0.0_wp &
-      .and. alpha_e(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)) < full
+    ! into f: the box of the cells it may have had nonzero until now and of those it may
+    ! have now (with their faces); beyond both it holds zeros already (the scratch is zero
+    ! beyond work%box)
+    fresh(1, :) = max(box(1, :), 1 - g1)
+    fresh(2, :) = min(box(2, :), n + g1)
+    if (any(fresh(1, :) > fresh(2, :))) fresh = box_empty
+    cb = box_union(f%box, fresh)
+    cb(1, :) = max(cb(1, :), 1 - g1)
+    cb(2, :) = min(cb(2, :), n + g1)
+    if (all(cb(1, :) <= cb(2, :))) then
+      f%partial(cb(1, 1):cb(2, 1), cb(1, 2):cb(2, 2), cb(1, 3):cb(2, 3)) = &
+        alpha_e(cb(1, 1):cb(2, 1), cb(1, 2):cb(2, 2), cb(1, 3):cb(2, 3)) > 0.0_wp .and. &
+        alpha_e(cb(1, 1):cb(2, 1), cb(1, 2):cb(2, 2), cb(1, 3):cb(2, 3)) < full
+      cb(1, :) = max(cb(1, :), 1)
+      cb(2, :) = min(cb(2, :), n)
+    end if
+    if (all(cb(1, :) <= cb(2, :))) then
+      associate (x => cb(:, 1), y => cb(:, 2), z => cb(:, 3))
+        f%ax(x(1)-1:x(2), y(1):y(2), z(1):z(2)) = work%ax(x(1)-1:x(2), y(1):y(2), z(1):z(2))
+        f%ay(x(1):x(2), y(1)-1:y(2), z(1):z(2)) = work%ay(x(1):x(2), y(1)-1:y(2), z(1):z(2))
+        f%az(x(1):x(2), y(1):y(2), z(1)-1:z(2)) = work%az(x(1):x(2), y(1):y(2), z(1)-1:z(2))
+        f%alpha(x(1):x(2), y(1):y(2), z(1):z(2)) = alpha_e(x(1):x(2), y(1):y(2), z(1):z(2))
+        f%plane(x(1):x(2), y(1):y(2), z(1):z(2)) = work%plane(x(1):x(2), y(1):y(2), z(1):z(2))
+      end associate
+    end if
+    f%box = fresh
 
   contains
 

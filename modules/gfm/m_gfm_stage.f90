@@ -9,22 +9,23 @@ module m_gfm_stage
   use m_layout, only: layout_t
   use m_blocks, only: block_t
   use m_halo, only: halo_plan_t
-  use m_boundary, only: bc_kind_t, fill_ghosts, ghosts_flow
+  use m_boundary, only: bc_kind_t, fill_ghosts, ghosts_flow, refresh_ghosts
   use m_phases, only: phases_t
   use m_config, only: body_t
   use m_euler, only: numerics_t, euler_work_t, euler_rhs
   use m_runge_kutta, only: rk_weights
   use m_elastoplastic, only: plastic_correction
-  use m_levelset_bodies, only: ls_set_t, ls_region, ls_separate, ls_material
+  use m_levelset_bodies, only: ls_set_t, ls_region, ls_separate, ls_material, ls_void
   use m_scene, only: rigid_bodies_move, made_t
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
-  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars, &
+    cut_near
   use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty
   use m_gfm_cut_close, only: cut_follow
   use m_gfm_cut_cells, only: cut_donate
   use m_state, only: n_euler, i_rho
-  use m_boundary, only: ghosts_all, bc_outflow
+  use m_boundary, only: ghosts_all, ghosts_level_sets, bc_outflow
   use m_comm, only: comm_any, comm_sum_by_key
   implicit none
   private
@@ -80,7 +81,7 @@ contains
       call phase_states(gf, cut, ls, ph, plan, lay, bc, blocks, t, dt, 0, thermal, &
         merge(states_open, states_geometry, stage > 1), failed)
       ! the halo held content: now the neighbours' states, for the ghost fill's stencils
-      if (stage > 1) call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
+      if (stage > 1) call states_halo()
     end if
     ! (after the cut-cell phase's content is states again: a waking block copies states)
     do b = 1, size(blocks)
@@ -88,6 +89,8 @@ contains
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
       if (gfm_dormant(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work)) cycle
       call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, only=b)
+      ! (its cut-cell geometry was not made at this stage: cut_update keeps every cell)
+      if (cut%on) cut%woke(b) = .true.
     end do
     do b = 1, size(blocks)
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
@@ -96,6 +99,19 @@ contains
         rested=stage > 1 .and. gf%dormant(b))
       if (cut%on .and. .not. gf%dormant(b)) call cut_scalars(cut, b, blocks(b), ph, stage)
     end do
+
+  contains
+
+    !> The states the open put, into the halos: on one rank only the cells it wrote
+    !> (cut%put_box; the rest of every halo holds what the exchange before the open gave it,
+    !> which is what it has), m_boundary's refresh_ghosts; the whole flow fill otherwise.
+    subroutine states_halo()
+      if (comm_any(any(plan%remote))) then
+        call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
+      else
+        call refresh_ghosts(plan, lay, bc, blocks, ph, cut%put_box, t, gf%dormant)
+      end if
+    end subroutine states_halo
   end subroutine ghost_fluid_fill
 
   !> The right-hand side of phase p on block blk (number b on this rank) at stage `stage`,
@@ -322,6 +338,7 @@ contains
     logical, intent(inout) :: failed
     logical :: states, final, bad, open_sides(2, 3)
     logical :: moved(size(blocks))   !< a block whose content some cell gave or took
+    integer :: mbox(2, 3, size(blocks))   !< the box of its cells that did (m_gfm_cut_box)
     logical, allocatable :: isreal(:, :, :), fresh(:, :, :)
     real(wp), allocatable :: share(:, :, :)   !< content over state: the wet part
     real(wp), allocatable :: step(:, :)       !< this step's budget terms per block
@@ -329,8 +346,9 @@ contains
     real(wp) :: total(7)
     integer :: b, p, m, lo(3), hi(3), n(3), v0, box(2, 3)
     if (.not. cut%on) return
-    if (mode == states_end .or. mode == states_start) &
-      call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, gf%dormant)
+    if (mode == states_start) call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, &
+      gf%dormant)
+    if (mode == states_end) call end_halo()
     if (mode == states_start) cut%started = .false.
     open_sides = reshape([bc%lo == bc_outflow, bc%hi == bc_outflow], [2, 3], order=[2, 1])
     states = mode == states_open .or. mode == states_end
@@ -339,8 +357,12 @@ contains
     p = cut%p
     v0 = ph%lo(p) - 1
     moved = .false.
+    mbox = spread(box_empty, 3, size(blocks))
     do b = 1, size(blocks)
       if (gf%dormant(b)) cycle
+      ! (a step's first stage: the geometry of the last step's end, when nothing has moved
+      ! the level sets since)
+      if (mode == states_geometry .and. cut%kept(b)) cycle
       associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
         call phase_region(blk)
         call cut_geometry(cut, b, blk, w%bigphi(:, :, :, p), open_sides, cut%ext(b)%a)
@@ -372,11 +394,13 @@ contains
           box = box_whole(n)
           if (cut%boxed(b)) box = box_union(cut%box(:, :, b), cut%wet_box(:, :, b))
           cut%box(:, :, b) = box
-          call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a, box, moved(b))
+          call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a, box, moved(b), &
+            mbox(:, :, b))
         end if
       end associate
     end do
     cut%started = .true.
+    cut%kept = .false.
     if (.not. states) return
     call content_halo()
     do b = 1, size(blocks)
@@ -386,6 +410,7 @@ contains
         n = blocks(b)%n
         blocks(b)%q(1:n(1), 1:n(2), 1:n(3), ph%lo(p):ph%hi(p)) = &
           blocks(b)%q0(:, :, :, ph%lo(p):ph%hi(p))
+        cut%put_box(:, :, b) = box_whole(n)
         cut%boxed(b) = .false.
         if (final) call cut_strand(cut, b, blocks(b))
         if (final) cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
@@ -396,23 +421,38 @@ contains
       associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
         call phase_region(blk)
         call cut_open(cut, b, blk, ph, cut%ext(b)%a, open_sides, final, bad, &
-          w%bigphi(:, :, :, p), w%owner(:, :, :, p), cut%box(:, :, b))
+          w%bigphi(:, :, :, p), w%owner(:, :, :, p), cut%box(:, :, b), gf%scn%band)
         if (ph%strong(p)) then
           isreal = w%bigphi(1:n(1), 1:n(2), 1:n(3), p) < 0.0_wp
           fresh = isreal .and. .not. cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) > 0.0_wp
           call plastic_correction(blk%lay, ph%eos(p), ph%st(p), thermal, dt, &
             blk%q(:, :, :, ph%lo(p):ph%hi(p)), isreal, fresh)
           ! the returned stress, eps_p and w_c back into content, per mass (a cut cell's
-          ! state has the density of the material beside it, m_gfm_cut)
-          share = f%alpha
-          where (blk%q(1:n(1), 1:n(2), 1:n(3), v0 + i_rho) > 0.0_wp) share = &
-            cut%c(1:n(1), 1:n(2), 1:n(3), i_rho, b) / blk%q(1:n(1), 1:n(2), 1:n(3), v0 + i_rho)
-          do m = n_euler + 1, ph%nflow
-            cut%c(1:n(1), 1:n(2), 1:n(3), m, b) = share * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
-          end do
+          ! state has the density of the material beside it, m_gfm_cut); beyond the box the
+          ! content is zero and stays so (m_gfm_cut_box)
+          box = cut%box(:, :, b)
+          if (all(box(1, :) <= box(2, :))) then
+            associate (x => box(:, 1), y => box(:, 2), z => box(:, 3))
+              share = f%alpha(x(1):x(2), y(1):y(2), z(1):z(2))
+              where (blk%q(x(1):x(2), y(1):y(2), z(1):z(2), v0 + i_rho) > 0.0_wp) share = &
+                cut%c(x(1):x(2), y(1):y(2), z(1):z(2), i_rho, b) &
+                / blk%q(x(1):x(2), y(1):y(2), z(1):z(2), v0 + i_rho)
+              do m = n_euler + 1, ph%nflow
+                cut%c(x(1):x(2), y(1):y(2), z(1):z(2), m, b) = &
+                  share * blk%q(x(1):x(2), y(1):y(2), z(1):z(2), v0 + m)
+              end do
+            end associate
+          end if
         end if
         if (final) then
-          cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = cut%c(1:n(1), 1:n(2), 1:n(3), :, b)
+          ! (beyond the box both are zero already)
+          box = cut%box(:, :, b)
+          if (all(box(1, :) <= box(2, :))) then
+            associate (x => box(:, 1), y => box(:, 2), z => box(:, 3))
+              cut%c0(x(1):x(2), y(1):y(2), z(1):z(2), :, b) = &
+                cut%c(x(1):x(2), y(1):y(2), z(1):z(2), :, b)
+            end associate
+          end if
           cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
           cut%ext_n(b)%a = cut%ext(b)%a
           ! (before the rest state replaces the states of the cells whose centre is outside)
@@ -428,6 +468,9 @@ contains
     end if
     failed = comm_any(bad)
     if (failed) return
+    ! the geometry holds for the next step's first stage where nothing moves the level sets
+    ! before it: a void's level set follows its content at every step (cut_follow)
+    cut%kept = .not. gf%dormant .and. .not. any(ls%kind == ls_void)
     ! what came in through the domain's sides in this step (the stages' weights) and what
     ! the cell rules sent out or stranded, summed over the blocks in the order of their ids
     allocate(step(7, size(blocks)))
@@ -448,25 +491,36 @@ contains
     !> The content the cells gave and took into the halo. Every other block's halo already
     !> holds the content as it is (the exchange before this pass, the sides' conditions
     !> from the same interior): where none moved on any rank, nothing is exchanged; on one
-    !> rank, only the blocks beside one that moved take their local copies again (m_halo's
-    !> halo_refresh, which gives what the whole exchange gives them).
+    !> rank, only the cells that changed are copied again, and the side conditions made
+    !> again where they could read them (m_boundary's refresh_ghosts, which gives what the
+    !> whole exchange gives).
     subroutine content_halo()
-      logical :: stale(size(blocks))
-      integer :: c
       if (.not. comm_any(any(moved))) return
       if (comm_any(any(plan%remote))) then
         call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
         return
       end if
-      stale = .false.
-      do c = 1, plan%ncopy
-        if (moved(plan%copy(c)%src_local)) stale(plan%copy(c)%local) = .true.
-      end do
-      do c = 1, size(blocks)
-        if (stale(c) .and. .not. gf%dormant(c)) call fill_ghosts(plan, lay, bc, blocks, ph, &
-          ghosts_flow, t, only=c)
-      end do
+      call refresh_ghosts(plan, lay, bc, blocks, ph, mbox, t, gf%dormant)
     end subroutine content_halo
+
+    !> Every halo brought up to date after the step's last stage: the level sets', which
+    !> moved everywhere, and the content's, which that stage's update wrote only near
+    !> each block's boxes (m_gfm_cut's near_box; since the flow exchange after the stage's
+    !> ghost fill nothing else wrote them): on one rank only there (m_boundary's
+    !> refresh_ghosts), otherwise the whole exchange.
+    subroutine end_halo()
+      integer :: near(2, 3, size(blocks)), c
+      if (comm_any(any(plan%remote))) then
+        call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, gf%dormant)
+        return
+      end if
+      call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_level_sets, t, gf%dormant)
+      do c = 1, size(blocks)
+        near(:, :, c) = box_empty
+        if (.not. gf%dormant(c)) near(:, :, c) = cut_near(cut, c, blocks(c)%n)
+      end do
+      call refresh_ghosts(plan, lay, bc, blocks, ph, near, t, gf%dormant)
+    end subroutine end_halo
 
     !> Block blk's extent (n its cells, lo:hi with the halo), the work arrays fitted to it,
     !> and the phase's composite level set and owners over it: what both passes over the

@@ -15,12 +15,13 @@ module m_boundary
   use m_layout, only: layout_t, block_neighbor, wall_neighbor
   use m_blocks, only: block_t
   use m_state, only: i_rho, i_mx, i_en, n_solid, stress_index
-  use m_halo, only: halo_plan_t, halo_exchange, halo_refresh, halo_exchange_finish
+  use m_halo, only: halo_plan_t, halo_exchange, halo_refresh, halo_exchange_finish, &
+    halo_refresh_boxes
   use m_phases, only: phases_t
   implicit none
   private
   public :: bc_kind_t, bc_outflow, bc_symmetry, bc_rigid, bc_periodic, bc_velocity
-  public :: bc_from_name, boundary_apply, boundary_walls, fill_ghosts
+  public :: bc_from_name, boundary_apply, boundary_walls, fill_ghosts, refresh_ghosts
   public :: ghosts_start, ghosts_finish
   public :: ghosts_all, ghosts_flow, ghosts_level_sets
   public :: bc_names, bc_check
@@ -382,6 +383,30 @@ contains
     call boundary_apply(lay, bc, blocks, last, ph%nflow, time, ph%nphase, skip=skip, &
       keep=ph%ils + 1, first=first, chosen=which)
   end subroutine fill_ghosts
+
+  !> The flow ghosts again after the interiors of some blocks changed, block b in box(:, :, b)
+  !> (empty: unchanged), on a rank whose blocks take nothing from other ranks: the local
+  !> copies of what changed (m_halo's halo_refresh_boxes), then the side conditions of every
+  !> block that took some or changed (they read the block alone); a block in skip neither.
+  !> The halos end as fill_ghosts' flow set would leave them, at a fraction of its copies.
+  subroutine refresh_ghosts(plan, lay, bc, blocks, ph, box, time, skip)
+    type(halo_plan_t), intent(in) :: plan
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    type(block_t), intent(inout) :: blocks(:)
+    type(phases_t), intent(in) :: ph
+    integer, intent(in) :: box(:, :, :)
+    real(wp), intent(in) :: time
+    logical, intent(in) :: skip(:)
+    logical :: touched(size(blocks)), changed(size(blocks))
+    integer :: b
+    call halo_refresh_boxes(plan, blocks, box, ph%ils, 1, skip, touched)
+    do b = 1, size(blocks)
+      changed(b) = all(box(1, :, b) <= box(2, :, b))
+    end do
+    call boundary_apply(lay, bc, blocks, ph%ils, ph%nflow, time, ph%nphase, &
+      chosen=(touched .or. changed) .and. .not. skip)
+  end subroutine refresh_ghosts
 
   !> The variables first..last of a set of fill_ghosts.
   pure subroutine ghost_variables(ph, set, first, last)

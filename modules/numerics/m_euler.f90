@@ -71,6 +71,10 @@ module m_euler
     !> carry eps_p and w_c at the cells' own values (upwind at first order keeps them >= 0
     !> where a face may let out more than a part of a small cell's mass in a stage)
     logical, allocatable :: partial(:, :, :)
+    !> the cells (low, high corner) beyond which every fraction and aperture above is 0 and
+    !> no cell partial (m_gfm_cut_geometry, which keeps it); the default: not known
+    integer :: box(2, 3) = reshape([-huge(1), huge(1), -huge(1), huge(1), -huge(1), huge(1)], &
+      [2, 3])
   end type cut_faces_t
 
 contains

@@ -16,7 +16,10 @@ module m_runge_kutta
 contains
 
   !> TVD Runge-Kutta stage (Shu and Osher 1988): q = a q0 + b (q + dt rhs) on the interior.
-  subroutine rk_stage_update(lay, stage, order, dt, q, q0, rhs, save)
+  !> Variables kept(1)..kept(2), when given, are only kept (into q0 at stage 1, into save),
+  !> not updated: a cut-cell phase, whose stage content its own update makes (m_gfm_cut's
+  !> cut_update, which overwrites them).
+  subroutine rk_stage_update(lay, stage, order, dt, q, q0, rhs, save, kept)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: stage, order
     real(wp), intent(in) :: dt
@@ -26,24 +29,45 @@ contains
     !> at a stage > 1, the stage's input (the interior of q) kept here on the way, for the
     !> cell-local fallback (m_step); at stage 1 it is q0
     real(wp), intent(out), optional :: save(:, :, :, :)
+    integer, intent(in), optional :: kept(2)
     real(wp) :: a, b
     integer :: n1, n2, n3, i, j, k, m
+    logical :: upd(size(q, 4))
     n1 = lay%bsize(1)
     n2 = lay%bsize(2)
     n3 = lay%bsize(3)
+    upd = .true.
+    if (present(kept)) upd(kept(1):kept(2)) = .false.
     if (stage == 1) then
       q0 = q(1:n1, 1:n2, 1:n3, :)
-      q(1:n1, 1:n2, 1:n3, :) = q0 + dt * rhs
+      if (all(upd)) then
+        q(1:n1, 1:n2, 1:n3, :) = q0 + dt * rhs
+        return
+      end if
+      do m = 1, size(q, 4)
+        if (upd(m)) q(1:n1, 1:n2, 1:n3, m) = q0(:, :, :, m) + dt * rhs(:, :, :, m)
+      end do
       return
     end if
     a = rk_blend(stage, order)
     b = 1.0_wp - a
     if (.not. present(save)) then
-      q(1:n1, 1:n2, 1:n3, :) = a * q0 + b * (q(1:n1, 1:n2, 1:n3, :) + dt * rhs)
+      if (all(upd)) then
+        q(1:n1, 1:n2, 1:n3, :) = a * q0 + b * (q(1:n1, 1:n2, 1:n3, :) + dt * rhs)
+        return
+      end if
+      do m = 1, size(q, 4)
+        if (upd(m)) q(1:n1, 1:n2, 1:n3, m) = a * q0(:, :, :, m) &
+          + b * (q(1:n1, 1:n2, 1:n3, m) + dt * rhs(:, :, :, m))
+      end do
       return
     end if
     ! (one pass over q for both: the copy was a pass of its own)
     do m = 1, size(q, 4)
+      if (.not. upd(m)) then
+        save(:, :, :, m) = q(1:n1, 1:n2, 1:n3, m)
+        cycle
+      end if
       do k = 1, n3
         do j = 1, n2
           do i = 1, n1

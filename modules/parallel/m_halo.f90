@@ -21,7 +21,7 @@ module m_halo
   implicit none
   private
   public :: halo_plan_t, halo_counts_t, halo_plan_build, halo_exchange, halo_refresh, &
-    halo_region, halo_exchange_finish
+    halo_refresh_boxes, halo_region, halo_exchange_finish
 
   !> One piece: a box of cells of a local block, and the box of its source block.
   type :: piece_t
@@ -386,6 +386,38 @@ contains
       if (plan%copy(c)%local == b) call copy_piece(blocks, plan%copy(c), first, nvar)
     end do
   end subroutine halo_refresh
+
+  !> The local copies again where their source changed: box(:, :, b) holds the interior
+  !> cells of block b that changed since the last exchange (low, high corner; empty when a
+  !> low corner lies above its high one), and each local piece takes, variables first..nvar,
+  !> the part of its source box that lies in its source block's box; touched(b): block b took
+  !> some. The rest of every halo holds what it held, which the whole exchange would give it
+  !> again; only pieces between blocks of this rank (the caller exchanges everything when
+  !> any block takes a message). A block b with skip(b) set takes none.
+  subroutine halo_refresh_boxes(plan, blocks, box, nvar, first, skip, touched)
+    type(halo_plan_t), intent(in) :: plan
+    type(block_t), intent(inout) :: blocks(:)
+    integer, intent(in) :: box(:, :, :)
+    integer, intent(in) :: nvar, first
+    logical, intent(in) :: skip(:)
+    logical, intent(out) :: touched(:)
+    integer :: c, a(3), z(3), s
+    touched = .false.
+    do c = 1, plan%ncopy
+      associate (pc => plan%copy(c))
+        if (skip(pc%local)) cycle
+        s = pc%src_local
+        a = max(pc%slo, box(1, :, s))
+        z = min(pc%slo + pc%hi - pc%lo, box(2, :, s))
+        if (any(a > z)) cycle
+        touched(pc%local) = .true.
+        associate (dst => blocks(pc%local)%q, src => blocks(s)%q, o => pc%lo - pc%slo)
+          dst(a(1)+o(1):z(1)+o(1), a(2)+o(2):z(2)+o(2), a(3)+o(3):z(3)+o(3), first:nvar) = &
+            src(a(1):z(1), a(2):z(2), a(3):z(3), first:nvar)
+        end associate
+      end associate
+    end do
+  end subroutine halo_refresh_boxes
 
   !> Piece pc of the local copies, variables m1..nvar: the box lo..hi of block pc%local
   !> from the box starting at slo of block pc%src_local (the same block along a periodic
