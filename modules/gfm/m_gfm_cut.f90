@@ -433,25 +433,21 @@ contains
       sounds = c21(1) > 0.0_wp .and. c21(1) <= huge(1.0_wp)
     end function sounds
 
-    !> whether a face neighbour of interior cell c0 is not full (the surface is beside it)
+    !> whether a face neighbour of interior cell c0 is not full (the surface is beside it;
+    !> asked of every full cell of the box, so without temporaries)
     logical function beside_surface(c0)
       integer, intent(in) :: c0(3)
-      integer :: nb(3, 2 * blk%lay%ndim), l
-      nb = faces_of(c0)
-      beside_surface = any([(alpha(nb(1, l), nb(2, l), nb(3, l)) < full, l = 1, size(nb, 2))])
-    end function beside_surface
-
-    !> the face neighbours of cell c0 (low, high along each active direction)
-    function faces_of(c0) result(nb)
-      integer, intent(in) :: c0(3)
-      integer :: nb(3, 2 * blk%lay%ndim), d
+      integer :: d, s, m(3)
+      beside_surface = .true.
       do d = 1, blk%lay%ndim
-        nb(:, 2 * d - 1) = c0
-        nb(d, 2 * d - 1) = c0(d) - 1
-        nb(:, 2 * d) = c0
-        nb(d, 2 * d) = c0(d) + 1
+        do s = -1, 1, 2
+          m = c0
+          m(d) = c0(d) + s
+          if (alpha(m(1), m(2), m(3)) < full) return
+        end do
       end do
-    end function faces_of
+      beside_surface = .false.
+    end function beside_surface
 
     logical function on_open_side(c0)
       integer, intent(in) :: c0(3)
