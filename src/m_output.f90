@@ -13,7 +13,7 @@ module m_output
   use m_xdmf, only: xdmf_write
   use m_comm, only: comm_sum_by_key, comm_max, comm_sum, comm_is_root
   use m_levelset_bodies, only: ls_region, ls_material
-  use m_gfm_cut, only: cut_content
+  use m_gfm_cut_budget, only: cut_content
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
   use m_config, only: config_t, is_set, material_index

@@ -30,7 +30,7 @@ module m_gfm_cut
   use m_layout, only: layout_t, cell_volume
   use m_blocks, only: block_t
   use m_phases, only: phases_t
-  use m_state, only: i_rho, i_mx, i_mz, i_en, i_epsp, i_wcold
+  use m_state, only: i_rho, i_mx, i_mz, i_en
   use m_euler, only: cut_faces_t
   use m_runge_kutta, only: rk_blend
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void
@@ -43,8 +43,8 @@ module m_gfm_cut
     put_states, near_cells, box_grown
   implicit none
   private
-  public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update, cut_content
-  public :: cut_strand, cut_scalars, cut_boxes, cut_near
+  public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update
+  public :: cut_boxes, cut_near
 
   !> the dry cells kept up to date around the box of the content and the geometry's
   !> (m_gfm_cut_box's near_cells): the passes read the content only in the box (theirs, the
@@ -261,8 +261,8 @@ contains
       ! m_gfm's gfm_fill, gfm_rest at the step's end), which nothing reads before; otherwise
       ! all
       g = lay%ng
-      call near_cells(box_union(box, cut%near_box(:, :, b)), near_reach, n, cut%work%near)
       cut%put_box(:, :, b) = box_grown(box_union(box, cut%near_box(:, :, b)), near_reach, n)
+      call near_cells(cut%put_box(:, :, b), 0, n, cut%work%near)
       if (any(.not. cut%work%near .and. .not. bigphi(1+g(1):n(1)+g(1), 1+g(2):n(2)+g(2), &
         1+g(3):n(3)+g(3)) > band)) then
         cut%work%near = .true.
@@ -561,90 +561,5 @@ contains
     cut%near_box(2, :, :) = 0
     cut%boxed = .false.
   end subroutine cut_boxes
-
-  !> After the ghost fill of block blk (number b) at stage `stage`: a wet cell whose centre
-  !> lies outside the surface holds a ghost state for the stencils, but its transported
-  !> scalars (eps_p, w_c: no traction depends on them) are those of its own content, so that
-  !> what its faces carry out of it is what it holds.
-  subroutine cut_scalars(cut, b, blk, ph, stage)
-    type(cut_t), intent(in) :: cut
-    integer, intent(in) :: b, stage
-    type(block_t), intent(inout) :: blk
-    type(phases_t), intent(in) :: ph
-    if (ph%nflow <= i_epsp - 1) return
-    ! the first stage starts from the step's start content, the later ones from the stage's
-    if (stage == 1) then
-      call restore(cut%c0(:, :, :, :, b))
-    else
-      call restore(cut%c(:, :, :, :, b))
-    end if
-
-  contains
-
-    subroutine restore(c)
-      real(wp), intent(in) :: c(:, :, :, :)
-      integer :: i, j, k, v0
-      v0 = ph%lo(cut%p) - 1
-      do k = 1, blk%n(3)
-        do j = 1, blk%n(2)
-          do i = 1, blk%n(1)
-            if (.not. cut%faces(b)%alpha(i, j, k) > 0.0_wp) cycle
-            if (.not. c(i, j, k, i_rho) > 0.0_wp) cycle
-            blk%q(i, j, k, v0 + i_epsp:v0 + i_wcold) = blk%q(i, j, k, v0 + i_rho) &
-              * c(i, j, k, i_epsp:i_wcold) / c(i, j, k, i_rho)
-          end do
-        end do
-      end do
-    end subroutine restore
-  end subroutine cut_scalars
-
-  !> A block that has fallen dormant (m_gfm: far from every surface) holds no phase: what
-  !> content it still has is counted as stranded and set to zero.
-  subroutine cut_strand(cut, b, blk)
-    type(cut_t), intent(inout) :: cut
-    integer, intent(in) :: b
-    type(block_t), intent(in) :: blk
-    integer :: i, n(3)
-    real(wp) :: dv
-    n = blk%n
-    do i = 1, n(1)
-      dv = cell_volume(blk%lay, blk%offset, i)
-      cut%out(3, b) = cut%out(3, b) + sum(cut%c(i, 1:n(2), 1:n(3), i_rho, b)) * dv
-      cut%out(4, b) = cut%out(4, b) + sum(cut%c(i, 1:n(2), 1:n(3), i_en, b)) * dv
-    end do
-    cut%c(:, :, :, :, b) = 0.0_wp
-  end subroutine cut_strand
-
-  !> The phase's mass, total energy and volume on block b: its content at the end of the last
-  !> step (sum C V), the volume its level set encloses (sum alpha V) and the volume its
-  !> content fills at the density of the cells' states (sum C_rho V / rho; a wet cell with
-  !> no state of its own counts alpha V). lo: the phase's first variable in q.
-  function cut_content(cut, b, blk, lo) result(me)
-    type(cut_t), intent(in) :: cut
-    integer, intent(in) :: b, lo
-    type(block_t), intent(in) :: blk
-    real(wp) :: me(4)
-    integer :: i, j, k, n(3)
-    real(wp) :: dv, m, rho
-    n = blk%n
-    me = 0.0_wp
-    do i = 1, n(1)
-      dv = cell_volume(blk%lay, blk%offset, i)
-      me(1) = me(1) + sum(cut%c0(i, 1:n(2), 1:n(3), i_rho, b)) * dv
-      me(2) = me(2) + sum(cut%c0(i, 1:n(2), 1:n(3), i_en, b)) * dv
-      me(3) = me(3) + sum(cut%alpha_n(i, 1:n(2), 1:n(3), b)) * dv
-      do k = 1, n(3)
-        do j = 1, n(2)
-          m = cut%c0(i, j, k, i_rho, b)
-          rho = blk%q(i, j, k, lo + i_rho - 1)
-          if (m > 0.0_wp .and. rho > 0.0_wp .and. cut%alpha_n(i, j, k, b) > 0.0_wp) then
-            me(4) = me(4) + m / rho * dv
-          else
-            me(4) = me(4) + cut%alpha_n(i, j, k, b) * dv
-          end if
-        end do
-      end do
-    end do
-  end function cut_content
 
 end module m_gfm_cut

@@ -19,8 +19,8 @@ module m_gfm_stage
   use m_scene, only: rigid_bodies_move, made_t
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
-  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_strand, cut_scalars, &
-    cut_near
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_near
+  use m_gfm_cut_budget, only: cut_strand, cut_scalars
   use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty
   use m_gfm_cut_close, only: cut_follow
   use m_gfm_cut_cells, only: cut_donate
