@@ -23,7 +23,7 @@ module m_simulation
   use m_phases, only: phases_t
   use m_fallback, only: counters_t
   use m_gfm_conserve, only: fix_t, fix_setup
-  use m_gfm_cut, only: cut_t, cut_setup
+  use m_gfm_cut, only: cut_t, cut_setup, cut_applies
   use m_reconstruct, only: scheme_from_name, stencil_reach
   use m_characteristic, only: variables_from_name
   use m_flux, only: flux_from_name, scalar_flux_from_name
@@ -171,13 +171,13 @@ contains
       sim%gf%scn%probe = probe_from_name(cfg%gfm_probe)
       sim%gf%scn%band = ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim))
       sim%gf%scn%contact = cfg%contact_kappa * maxval(sim%lay%dx(1:sim%lay%ndim))
-      ! conserve = 'cut_cell': by the fluxes where m_gfm_cut applies, else by the fix
-      call cut_setup(sim%cut, cfg%conserve == 'cut_cell', sim%lay, sim%ph, sim%ls, sim%blocks)
+      ! conserve = 'auto' or 'cut_cell': by the fluxes where m_gfm_cut applies, else by the fix
+      call cut_setup(sim%cut, cfg%conserve, sources(cfg), sim%lay, sim%ph, sim%ls, sim%blocks)
       if (sim%cut%on) then
         sim%bc%linear_levelsets = .true.
         call fix_setup(sim%fix, sim%ph, sim%ls, 'none', size(sim%blocks))
         sim%fix%reason = 'off: the cut-cell update conserves by its fluxes'
-      else if (cfg%conserve == 'cut_cell') then
+      else if (cfg%conserve == 'cut_cell' .or. cfg%conserve == 'auto') then
         call fix_setup(sim%fix, sim%ph, sim%ls, 'mass_energy', size(sim%blocks))
       else
         call fix_setup(sim%fix, sim%ph, sim%ls, cfg%conserve, size(sim%blocks))
@@ -582,16 +582,25 @@ contains
   !> in the coarray build, whose exchange keeps one set-up (m_comm_caf).
   subroutine sim_plan(sim)
     type(sim_t), intent(inout) :: sim
-    logical :: faces, plain
+    logical :: faces, plain, cut
+    character(len=256) :: why
     plain = .not. (sim%cfg%heat_conduction .or. sim%cfg%reaction)
     faces = sim%ls%n == 0 .and. plain
     call halo_plan_build(sim%lay, sim%blocks, sim%plan, faces, &
       merge(stencil_reach, n_halo, faces))
     ! (the coarray back end keeps one exchange set-up per run: one plan there)
-    sim%flow_faces = sim%ls%n > 0 .and. plain .and. sim%cfg%conserve /= 'cut_cell' .and. &
+    call cut_applies(sim%cfg%conserve, sources(sim%cfg), sim%ph, sim%ls, cut, why)
+    sim%flow_faces = sim%ls%n > 0 .and. plain .and. .not. cut .and. &
       comm_backend_name /= 'coarray'
     if (sim%flow_faces) call halo_plan_build(sim%lay, sim%blocks, sim%plan_flow, .true., &
       stencil_reach)
   end subroutine sim_plan
+
+  !> Whether the scene has heat conduction or reaction (sources the cut-cell update does not
+  !> take: m_gfm_cut's cut_applies)
+  pure logical function sources(cfg)
+    type(config_t), intent(in) :: cfg
+    sources = cfg%heat_conduction .or. cfg%reaction
+  end function sources
 
 end module m_simulation

@@ -68,7 +68,7 @@ module m_config
     ! &numerics
     character(len=name_len) :: scheme = '', flux = '', scalar_flux = ''
     character(len=line_len) :: numerics_note = ''   ! not read: what m_numerics_defaults chose
-    character(len=name_len) :: surface_flux = 'material', conserve = 'mass_energy'
+    character(len=name_len) :: surface_flux = 'material', conserve = 'auto'
     character(len=name_len) :: variables = 'primitive'
     character(len=name_len) :: gfm_probe = 'auto'
     integer :: rk_order = 3, reinit_every = 5, band = 6

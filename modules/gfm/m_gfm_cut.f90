@@ -43,7 +43,7 @@ module m_gfm_cut
     put_states, near_cells, box_grown
   implicit none
   private
-  public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update
+  public :: cut_t, cut_setup, cut_applies, cut_geometry, cut_open, cut_update
   public :: cut_boxes, cut_near
 
   !> the dry cells kept up to date around the box of the content and the geometry's
@@ -109,33 +109,58 @@ module m_gfm_cut
 
 contains
 
-  !> Decide whether the cut-cell update applies (mode 'cut_cell' asked for, one phase, every
-  !> surface of it free) and size its arrays for the blocks of this rank.
-  subroutine cut_setup(cut, asked, lay, ph, ls, blocks)
+  !> Whether the cut-cell update applies to a scene: the deck's &numerics conserve (cfg_mode,
+  !> 'cut_cell', or 'auto' unless the scene has heat conduction or reaction, whose sources a
+  !> cut cell's content does not take: `sources`), level sets, one phase, every surface of it
+  !> free; under 'auto' also not a void body with a material body (a hole carved in a solid:
+  !> only a void in the base material follows its content, so a hole's surface drifts from
+  !> it and its trailing point gives pressure spikes, interfaces.md 2c). reason: why
+  !> (run.log's `gfm: cut-cell update` line).
+  pure subroutine cut_applies(cfg_mode, sources, ph, ls, on, reason)
+    character(len=*), intent(in) :: cfg_mode
+    logical, intent(in) :: sources
+    type(phases_t), intent(in) :: ph
+    type(ls_set_t), intent(in) :: ls
+    logical, intent(out) :: on
+    character(len=*), intent(out) :: reason
+    on = .false.
+    if (cfg_mode /= 'cut_cell' .and. cfg_mode /= 'auto') then
+      reason = "off: &numerics conserve = '" // trim(cfg_mode) // "'"
+    else if (ls%n == 0) then
+      reason = 'off: no level sets'
+    else if (ph%nphase /= 1 .or. any(ls%kind /= ls_material .and. ls%kind /= ls_void)) then
+      reason = 'off: built for one phase with free surfaces only (no contact, no rigid ' &
+        // 'body yet); the conservation fix instead'
+    else if (sources) then
+      ! (an explicit 'cut_cell' with these is refused by the deck check)
+      reason = 'off: not built with heat conduction or reaction (their sources do not ' &
+        // 'reach the cut cells'' content); the conservation fix instead'
+    else if (cfg_mode == 'auto' .and. any(ls%kind == ls_material) .and. &
+        any(ls%kind == ls_void)) then
+      reason = "off: conserve = 'auto' and a void body with a material body (a hole's " &
+        // "surface is not made to follow its content: pressure spikes, interfaces.md 2c); " &
+        // "the conservation fix instead (conserve = 'cut_cell' asks for it)"
+    else
+      on = .true.
+      reason = 'on: ' // trim(ph%material(1)) // ' with free surfaces'
+      if (cfg_mode == 'auto') reason = trim(reason) // " (conserve = 'auto')"
+    end if
+  end subroutine cut_applies
+
+  !> Set the cut-cell update up when it applies (cut_applies) and size its arrays for the
+  !> blocks of this rank.
+  subroutine cut_setup(cut, cfg_mode, sources, lay, ph, ls, blocks)
     type(cut_t), intent(inout) :: cut
-    logical, intent(in) :: asked
+    character(len=*), intent(in) :: cfg_mode   !< &numerics conserve
+    logical, intent(in) :: sources             !< heat conduction or reaction in the scene
     type(layout_t), intent(in) :: lay
     type(phases_t), intent(in) :: ph
     type(ls_set_t), intent(in) :: ls
     type(block_t), intent(in) :: blocks(:)
     integer :: n(3), b, g1(3)
-    cut%on = .false.
-    if (.not. asked) then
-      cut%reason = "off: &numerics conserve is not 'cut_cell'"
-      return
-    end if
-    if (ls%n == 0) then
-      cut%reason = 'off: no level sets'
-      return
-    end if
-    if (ph%nphase /= 1 .or. any(ls%kind /= ls_material .and. ls%kind /= ls_void)) then
-      cut%reason = 'off: built for one phase with free surfaces only (no contact, no rigid ' &
-        // 'body yet)'
-      return
-    end if
-    cut%on = .true.
+    call cut_applies(cfg_mode, sources, ph, ls, cut%on, cut%reason)
+    if (.not. cut%on) return
     cut%p = 1
-    cut%reason = 'on: ' // trim(ph%material(1)) // ' with free surfaces'
     n = lay%nmax
     allocate(cut%c(n(1), n(2), n(3), ph%nflow, size(blocks)))
     allocate(cut%c0, mold=cut%c)

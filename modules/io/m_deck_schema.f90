@@ -30,8 +30,8 @@ module m_deck_schema
   character(len=12), parameter :: geometry_names(2) = [character(len=12) :: 'cartesian', &
     'axisymmetric']
   character(len=8), parameter :: surface_flux_names(2) = [character(len=8) :: 'material', 'llf']
-  character(len=11), parameter :: conserve_names(4) = [character(len=11) :: 'mass_energy', &
-    'mass', 'none', 'cut_cell']
+  character(len=11), parameter :: conserve_names(5) = [character(len=11) :: 'auto', &
+    'mass_energy', 'mass', 'none', 'cut_cell']
   character(len=14), parameter :: shape_names(7) = [character(len=14) :: 'box', 'sphere', &
     'cylinder', 'half_space', 'random_spheres', 'random_field', 'grains']
   character(len=9), parameter :: size_distribution_names(3) = [character(len=9) :: 'fixed', &
@@ -104,8 +104,8 @@ contains
       scalar_flux_names, .true.)
     call t%add('surface_flux', c%surface_flux, "'material'", 'S, eps_p, w_c at a surface face', &
       surface_flux_names)
-    call t%add('conserve', c%conserve, "'mass_energy'", 'the fix returns this, or cut_cell', &
-      conserve_names)
+    call t%add('conserve', c%conserve, "'auto'", 'auto: cut_cell where it applies, else the ' &
+      // 'fix mass_energy; or the fix returns mass_energy, mass, none', conserve_names)
     call t%add('rk_order', c%rk_order, '3', 'Runge-Kutta order, 1 to 3', allowed='1, 2 or 3')
     call t%add('cfl', c%cfl, '0.5', 'Courant number', allowed='in (0, 1]')
     call t%add('dt_max', c%dt_max, '1.0e-7', 'cap on dt (s), optional', &
