@@ -196,24 +196,31 @@ contains
     !> region: a probe reads the real cells of a phase (least squares, the mean, the partner
     !> of an MMI ghost) or the 2^ndim cells around an image point, which lies in the region,
     !> so within sqrt(ndim) cells of it (3 cells here: a level set is only nearly a distance);
-    !> a row with every cell farther (the block's other grains, in a scene of many) is not
-    !> read and not made.
+    !> a cell farther (the block's other grains, in a scene of many) is not read: each row is
+    !> made from its first cell within reach to its last, a row with none not at all.
     subroutine primitives(pp)
       integer, intent(in) :: pp
-      integer :: m, nr, off
+      integer :: m, off, ia, ib
       real(wp) :: reach
-      nr = hi(1) - lo(1) + 1
       off = (pp - 1) * nflow
       reach = 3.0_wp * maxval(lay%dx(1:lay%ndim))
       do k = lo(3), hi(3)
         do j = lo(2), hi(2)
-          if (all(work%bigphi(:, j, k, pp) > reach)) cycle
-          call primitive_row(scn%eos(pp), nr, q(:, j, k, off+i_rho), q(:, j, k, off+i_mx), &
-            q(:, j, k, off+i_my), q(:, j, k, off+i_mz), q(:, j, k, off+i_en), &
-            work%w(:, j, k, 1, pp), work%w(:, j, k, 2, pp), work%w(:, j, k, 3, pp), &
-            work%w(:, j, k, 4, pp), work%w(:, j, k, 5, pp), work%row)
+          ! the row's cells from the first to the last within reach
+          do ia = lo(1), hi(1)
+            if (.not. work%bigphi(ia, j, k, pp) > reach) exit
+          end do
+          if (ia > hi(1)) cycle
+          do ib = hi(1), ia, -1
+            if (.not. work%bigphi(ib, j, k, pp) > reach) exit
+          end do
+          call primitive_row(scn%eos(pp), ib - ia + 1, q(ia:ib, j, k, off+i_rho), &
+            q(ia:ib, j, k, off+i_mx), q(ia:ib, j, k, off+i_my), q(ia:ib, j, k, off+i_mz), &
+            q(ia:ib, j, k, off+i_en), work%w(ia:ib, j, k, 1, pp), work%w(ia:ib, j, k, 2, pp), &
+            work%w(ia:ib, j, k, 3, pp), work%w(ia:ib, j, k, 4, pp), work%w(ia:ib, j, k, 5, pp), &
+            work%row)
           do m = n_euler + 1, nflow
-            work%w(:, j, k, m, pp) = q(:, j, k, off+m) / q(:, j, k, off+i_rho)
+            work%w(ia:ib, j, k, m, pp) = q(ia:ib, j, k, off+m) / q(ia:ib, j, k, off+i_rho)
           end do
         end do
       end do
@@ -261,12 +268,14 @@ contains
     hi = lay%bsize + lay%ng
     qrest = rest_state(scn%eos(p), nflow, scn%rest(:, p))
     ! the cells beyond the band take the rest state, variable by variable (a cell's variables
-    ! lie a block apart: masked rows that vectorise); nothing below reads them
+    ! lie a block apart: rows that vectorise, every cell stored, as a masked store does not);
+    ! nothing below reads them
     do m = 1, nflow
       do k = 1, lay%bsize(3)
         do j = 1, lay%bsize(2)
           do i = 1, lay%bsize(1)
-            if (work%bigphi(i, j, k, p) > scn%band) q(i, j, k, off + m) = qrest(m)
+            q(i, j, k, off + m) = merge(qrest(m), q(i, j, k, off + m), &
+              work%bigphi(i, j, k, p) > scn%band)
           end do
         end do
       end do
