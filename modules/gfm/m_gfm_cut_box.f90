@@ -55,26 +55,31 @@ contains
     end do
   end function box_nonzero
 
-  !> the smallest box of the cells where a < 0
-  function box_below(a) result(box)
+  !> the smallest box of the cells where a < level (0 unless given)
+  function box_below(a, level) result(box)
     real(wp), intent(in) :: a(:, :, :)
+    real(wp), intent(in), optional :: level
     integer :: box(2, 3)
-    box = box_where(a, .true.)
+    box = box_where(a, .true., level)
   end function box_below
 
-  !> the smallest box of the cells where a < 0 (below) or a is not zero (else); one pass
-  !> along the rows
-  function box_where(a, below) result(box)
+  !> the smallest box of the cells where a < level (below; level 0 unless given) or a is not
+  !> zero (else); one pass along the rows
+  function box_where(a, below, level) result(box)
     real(wp), intent(in) :: a(:, :, :)
     logical, intent(in) :: below
+    real(wp), intent(in), optional :: level
     integer :: box(2, 3), i, j, k
     logical :: hit(size(a, 1)), any_hit
+    real(wp) :: lv
+    lv = 0.0_wp
+    if (present(level)) lv = level
     box(1, :) = shape(a) + 1
     box(2, :) = 0
     do k = 1, size(a, 3)
       do j = 1, size(a, 2)
         if (below) then
-          hit = a(:, j, k) < 0.0_wp
+          hit = a(:, j, k) < lv
         else
           hit = .not. abs(a(:, j, k)) <= 0.0_wp
         end if
