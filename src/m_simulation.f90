@@ -23,7 +23,7 @@ module m_simulation
   use m_phases, only: phases_t
   use m_fallback, only: counters_t
   use m_gfm_conserve, only: fix_t, fix_setup
-  use m_gfm_cut, only: cut_t, cut_setup, cut_applies
+  use m_gfm_cut, only: cut_t, cut_setup
   use m_reconstruct, only: scheme_from_name, stencil_reach
   use m_characteristic, only: variables_from_name
   use m_flux, only: flux_from_name, scalar_flux_from_name
@@ -154,6 +154,10 @@ contains
     work = predicted_work(sim)
     call partition_blocks(sim%lay, work)
     call blocks_allocate(sim%lay, comm_rank(), sim%ph%nvar, sim%blocks)
+    ! conserve = 'auto' or 'cut_cell': by the fluxes where m_gfm_cut applies (its exchanges
+    ! take sim_plan's whole plan), else by the fix (below)
+    call cut_setup(sim%cut, cfg%conserve, cfg%heat_conduction .or. cfg%reaction, sim%lay, &
+      sim%ph, sim%ls, sim%blocks)
     call sim_plan(sim)
     sim%bal%threshold = cfg%rebalance_threshold
     sim%bal%every = cfg%rebalance_every
@@ -171,8 +175,6 @@ contains
       sim%gf%scn%probe = probe_from_name(cfg%gfm_probe)
       sim%gf%scn%band = ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim))
       sim%gf%scn%contact = cfg%contact_kappa * maxval(sim%lay%dx(1:sim%lay%ndim))
-      ! conserve = 'auto' or 'cut_cell': by the fluxes where m_gfm_cut applies, else by the fix
-      call cut_setup(sim%cut, cfg%conserve, sources(cfg), sim%lay, sim%ph, sim%ls, sim%blocks)
       if (sim%cut%on) then
         sim%bc%linear_levelsets = .true.
         call fix_setup(sim%fix, sim%ph, sim%ls, 'none', size(sim%blocks))
@@ -582,25 +584,16 @@ contains
   !> in the coarray build, whose exchange keeps one set-up (m_comm_caf).
   subroutine sim_plan(sim)
     type(sim_t), intent(inout) :: sim
-    logical :: faces, plain, cut
-    character(len=256) :: why
+    logical :: faces, plain
     plain = .not. (sim%cfg%heat_conduction .or. sim%cfg%reaction)
     faces = sim%ls%n == 0 .and. plain
     call halo_plan_build(sim%lay, sim%blocks, sim%plan, faces, &
       merge(stencil_reach, n_halo, faces))
     ! (the coarray back end keeps one exchange set-up per run: one plan there)
-    call cut_applies(sim%cfg%conserve, sources(sim%cfg), sim%ph, sim%ls, cut, why)
-    sim%flow_faces = sim%ls%n > 0 .and. plain .and. .not. cut .and. &
+    sim%flow_faces = sim%ls%n > 0 .and. plain .and. .not. sim%cut%on .and. &
       comm_backend_name /= 'coarray'
     if (sim%flow_faces) call halo_plan_build(sim%lay, sim%blocks, sim%plan_flow, .true., &
       stencil_reach)
   end subroutine sim_plan
-
-  !> Whether the scene has heat conduction or reaction (sources the cut-cell update does not
-  !> take: m_gfm_cut's cut_applies)
-  pure logical function sources(cfg)
-    type(config_t), intent(in) :: cfg
-    sources = cfg%heat_conduction .or. cfg%reaction
-  end function sources
 
 end module m_simulation

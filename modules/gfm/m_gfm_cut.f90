@@ -37,13 +37,13 @@ module m_gfm_cut
   use m_eos, only: eos_pressure, eos_sound_speed2
   use m_gfm_cut_cells, only: full, full_density, group_roots, ring, on_open
   use m_gfm_cut_close, only: relax_closing
-  use m_gfm_cut_geometry, only: cut_block_geometry
+  use m_gfm_cut_geometry, only: cut_block_geometry, wet_reach_box
   use m_gfm_cut_work, only: cut_work_t, fit_work
-  use m_gfm_cut_box, only: box_union, box_nonzero, box_whole, box_empty, box_below, &
-    stage_content, put_states, near_cells, box_grown
+  use m_gfm_cut_box, only: box_union, box_nonzero, box_whole, box_empty, stage_content, &
+    put_states, near_cells, box_grown
   implicit none
   private
-  public :: cut_t, cut_setup, cut_applies, cut_geometry, cut_open, cut_update
+  public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update
   public :: cut_boxes, cut_near
 
   !> the dry cells kept up to date around the box of the content and the geometry's
@@ -51,10 +51,6 @@ module m_gfm_cut
   !> next open's) and in wet cells, and the surface moves less than a cell in a stage, so that
   !> the next open's box lies within a cell of these; one cell more as a margin
   integer, parameter :: near_reach = 2
-  !> the level set (in cells) below which a cell counts into the geometry's box as one the
-  !> surface may wet before the next open: it moves less than a cell in a stage, a wet cell
-  !> is within a cell of one below zero, and a level set is only nearly a distance: 3
-  real(wp), parameter :: wet_reach = 3.0_wp
 
   !> A block's fractions over the padded block less its outer layer (for the mixing).
   type :: fraction_t
@@ -195,26 +191,13 @@ contains
     real(wp), intent(in) :: bigphi(:, :, :)
     logical, intent(in) :: open_side(2, 3)   !< the domain's outflow sides
     real(wp), allocatable, intent(inout) :: alpha_e(:, :, :)
-    integer :: box(2, 3), reach(2, 3)
+    integer :: box(2, 3)
     call cut_block_geometry(cut%work, blk%lay, blk%offset, blk%n, bigphi, open_side, &
       cut%faces(b), alpha_e, box)
     cut%wet_box(1, :, b) = max(box(1, :), 1)
     cut%wet_box(2, :, b) = min(box(2, :), blk%n)
-    ! the cells the surface may wet before the next open: within a cell of one whose level
-    ! set goes below zero in a stage (it moves less than a cell), so every cell of the padded
-    ! block whose level set is below wet_reach cells now (a new part of the region, a foot's
-    ! lip along a wall, appears where the level set was small, however far from the wet box);
-    ! in axisymmetry every r, as the geometry's box will have (m_gfm_cut_geometry): the
-    ! 400 m/s bar's foot entering a block along the floor wet a whole row at once, whose
-    ! states the open then read as content
-    reach = box_below(bigphi, wet_reach * maxval(blk%lay%dx(1:blk%lay%ndim)))
-    if (all(reach(1, :) <= reach(2, :))) then
-      reach(1, :) = reach(1, :) - blk%lay%ng
-      reach(2, :) = reach(2, :) - blk%lay%ng
-      if (blk%lay%axisymmetric) reach(:, 1) = [1 - blk%lay%ng(1), blk%n(1) + blk%lay%ng(1)]
-      box = box_union(box, reach)
-    end if
-    cut%geo_box(:, :, b) = box
+    ! (with the cells the surface may wet before the next open, however far from these)
+    cut%geo_box(:, :, b) = box_union(box, wet_reach_box(blk%lay, blk%n, bigphi))
   end subroutine cut_geometry
 
   !> Content into states on block blk (number b), after the halo exchange: q's phase

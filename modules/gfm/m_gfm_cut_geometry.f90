@@ -17,9 +17,32 @@ module m_gfm_cut_geometry
   use m_gfm_cut_box, only: box_below, box_union, box_empty
   implicit none
   private
-  public :: cut_block_geometry
+  public :: cut_block_geometry, wet_reach_box
+
+  !> the level set (in cells) below which a cell is one the surface may wet before the next
+  !> stage: it moves less than a cell in a stage, a wet cell is within a cell of one below
+  !> zero, and a level set is only nearly a distance: 3
+  real(wp), parameter :: wet_reach = 3.0_wp
 
 contains
+
+  !> The cells of the padded block (in its cells' indices, the box cut_block_geometry's box
+  !> will have by the next stage at most) that the surface may wet before the next stage:
+  !> every cell whose level set bigphi (over the padded block) is below wet_reach cells, in
+  !> axisymmetry at every r as the geometry's box. A new part of the region appears where the
+  !> level set was small, however far from the wet cells: the 400 m/s bar's foot entering a
+  !> block along the floor wet a whole row at once (m_gfm_cut's near cells, interfaces.md 2c).
+  function wet_reach_box(lay, n, bigphi) result(box)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: n(3)
+    real(wp), intent(in) :: bigphi(:, :, :)
+    integer :: box(2, 3)
+    box = box_below(bigphi, wet_reach * maxval(lay%dx(1:lay%ndim)))
+    if (any(box(1, :) > box(2, :))) return
+    box(1, :) = box(1, :) - lay%ng
+    box(2, :) = box(2, :) - lay%ng
+    if (lay%axisymmetric) box(:, 1) = [1 - lay%ng(1), n(1) + lay%ng(1)]
+  end function wet_reach_box
 
   !> The geometry of a block with n interior cells at offset in the grid lay, from the
   !> phase's level set bigphi over the padded block: the interior faces' apertures,
