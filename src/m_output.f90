@@ -13,7 +13,7 @@ module m_output
   use m_xdmf, only: xdmf_write
   use m_comm, only: comm_sum_by_key, comm_max, comm_sum, comm_is_root
   use m_levelset_bodies, only: ls_region, ls_material
-  use m_gfm_cut_budget, only: cut_content
+  use m_gfm_cut_budget, only: cut_content, cut_excess
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
   use m_config, only: config_t, is_set, material_index
@@ -206,7 +206,7 @@ contains
     if (sim%cut%on) cols = [character(len=name_len) :: cols, 'cut_mass', 'cut_energy', &
       'cut_volume', 'cut_in_mass', 'cut_in_energy', 'cut_stranded_mass', &
       'cut_stranded_energy', 'cut_content_volume', 'cut_closing_cells', 'cut_closing_heat', &
-      'cut_held_cells']
+      'cut_held_cells', 'cut_excess_max']
     ! the mass burnt, sum rho lambda V over the real cells (reaction, m_reaction)
     if (sim%ph%has_reaction) cols = [character(len=name_len) :: cols, 'burnt_mass']
     do l = 1, sim%ls%n
@@ -224,7 +224,7 @@ contains
   function history_values(sim) result(v)
     type(sim_t), intent(inout) :: sim
     real(wp), allocatable :: v(:)
-    real(wp) :: tot(9), pmax, tmax, epmax, cut_tot(8)
+    real(wp) :: tot(9), pmax, tmax, epmax, cut_tot(8), xmax
     real(wp), allocatable :: sums(:)
     integer :: b, l, nb, ph, nsum
     real(wp), allocatable :: body(:, :), part(:, :)
@@ -240,12 +240,15 @@ contains
     allocate(part(nsum, size(sim%blocks)))
     part = 0.0_wp
     call hot_row_start(sim%hot)
+    xmax = 0.0_wp
     do b = 1, size(sim%blocks)
       tot = 0.0_wp
       call block_totals(sim, b, has_t, tot, pmax, tmax, epmax, sim%hot)
       part(1:7, b) = tot(1:7)
-      if (sim%cut%on) part(8:11, b) = cut_content(sim%cut, b, sim%blocks(b), &
-        sim%ph%lo(sim%cut%p))
+      if (sim%cut%on) then
+        part(8:11, b) = cut_content(sim%cut, b, sim%blocks(b), sim%ph%lo(sim%cut%p))
+        xmax = max(xmax, cut_excess(sim%cut, b, sim%blocks(b), sim%ph%lo(sim%cut%p)))
+      end if
       if (sim%ph%has_reaction) part(12, b) = tot(9)
     end do
     sums = comm_sum_by_key(part, [(sim%blocks(b)%id, b = 1, size(sim%blocks))], &
@@ -262,7 +265,7 @@ contains
       cut_tot(6:7) = sim%cut%stranded
       cut_tot(1:3) = sums(8:10)
       cut_tot(8) = sums(11)
-      v = [v, cut_tot, sim%cut%closing, sim%cut%held]
+      v = [v, cut_tot, sim%cut%closing, sim%cut%held, comm_max(xmax)]
     end if
     if (sim%ph%has_reaction) v = [v, sums(12)]
     nb = 0

@@ -2,7 +2,7 @@
 !> section 2c), over the state m_gfm_cut keeps: a wet cell's eps_p and w_c from its own
 !> content after the ghost fill (cut_scalars), the content of a block that falls dormant
 !> counted as stranded (cut_strand), and a block's mass, energy and volumes for history.csv
-!> (cut_content).
+!> (cut_content), and the largest excess a cut cell's content hides (cut_excess).
 module m_gfm_cut_budget
   use m_kinds, only: wp
   use m_layout, only: cell_volume
@@ -10,9 +10,10 @@ module m_gfm_cut_budget
   use m_phases, only: phases_t
   use m_state, only: i_rho, i_en, i_epsp, i_wcold
   use m_gfm_cut, only: cut_t
+  use m_gfm_cut_cells, only: full
   implicit none
   private
-  public :: cut_scalars, cut_strand, cut_content
+  public :: cut_scalars, cut_strand, cut_content, cut_excess
 
 contains
 
@@ -100,5 +101,30 @@ contains
       end do
     end do
   end function cut_content
+
+  !> The largest excess of content a cut cell of block b holds at the end of the last step:
+  !> C_rho / (alpha rho) - 1 over the cells with 1/2 <= alpha < 1, rho its state's density
+  !> (a cut cell's state is at the density of the material beside it, so the excess is mass
+  !> its pressure does not feel: theory.md 7c); 0 when none holds more than its fraction
+  !> says. Small cells (alpha < 1/2) are left out: their groups mix them.
+  real(wp) function cut_excess(cut, b, blk, lo) result(x)
+    type(cut_t), intent(in) :: cut
+    integer, intent(in) :: b, lo
+    type(block_t), intent(in) :: blk
+    integer :: i, j, k
+    real(wp) :: a, rho
+    x = 0.0_wp
+    do k = 1, blk%n(3)
+      do j = 1, blk%n(2)
+        do i = 1, blk%n(1)
+          a = cut%alpha_n(i, j, k, b)
+          if (.not. (a >= 0.5_wp .and. a < full)) cycle
+          rho = blk%q(i, j, k, lo + i_rho - 1)
+          if (.not. rho > 0.0_wp) cycle
+          x = max(x, cut%c0(i, j, k, i_rho, b) / (a * rho) - 1.0_wp)
+        end do
+      end do
+    end do
+  end function cut_excess
 
 end module m_gfm_cut_budget
