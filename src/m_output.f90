@@ -13,7 +13,7 @@ module m_output
   use m_xdmf, only: xdmf_write
   use m_comm, only: comm_sum_by_key, comm_max, comm_sum, comm_is_root
   use m_levelset_bodies, only: ls_region, ls_material
-  use m_gfm_cut_budget, only: cut_content, cut_excess
+  use m_gfm_cut_budget, only: cut_content
   use m_scene, only: cell_centre
   use m_layout, only: cell_volume
   use m_config, only: config_t, is_set, material_index
@@ -224,7 +224,7 @@ contains
   function history_values(sim) result(v)
     type(sim_t), intent(inout) :: sim
     real(wp), allocatable :: v(:)
-    real(wp) :: tot(9), pmax, tmax, epmax, cut_tot(8), xmax
+    real(wp) :: tot(9), pmax, tmax, epmax, cut_tot(8), xmax, x
     real(wp), allocatable :: sums(:)
     integer :: b, l, nb, ph, nsum
     real(wp), allocatable :: body(:, :), part(:, :)
@@ -246,8 +246,8 @@ contains
       call block_totals(sim, b, has_t, tot, pmax, tmax, epmax, sim%hot)
       part(1:7, b) = tot(1:7)
       if (sim%cut%on) then
-        part(8:11, b) = cut_content(sim%cut, b, sim%blocks(b), sim%ph%lo(sim%cut%p))
-        xmax = max(xmax, cut_excess(sim%cut, b, sim%blocks(b), sim%ph%lo(sim%cut%p)))
+        call cut_content(sim%cut, b, sim%blocks(b), sim%ph%lo(sim%cut%p), part(8:11, b), x)
+        xmax = max(xmax, x)
       end if
       if (sim%ph%has_reaction) part(12, b) = tot(9)
     end do

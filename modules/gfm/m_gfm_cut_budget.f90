@@ -2,7 +2,7 @@
 !> section 2c), over the state m_gfm_cut keeps: a wet cell's eps_p and w_c from its own
 !> content after the ghost fill (cut_scalars), the content of a block that falls dormant
 !> counted as stranded (cut_strand), and a block's mass, energy and volumes for history.csv
-!> (cut_content), and the largest excess a cut cell's content hides (cut_excess).
+!> (cut_content, with the largest excess a cut cell's content hides).
 module m_gfm_cut_budget
   use m_kinds, only: wp
   use m_layout, only: cell_volume
@@ -13,7 +13,7 @@ module m_gfm_cut_budget
   use m_gfm_cut_cells, only: full
   implicit none
   private
-  public :: cut_scalars, cut_strand, cut_content, cut_excess
+  public :: cut_scalars, cut_strand, cut_content
 
 contains
 
@@ -73,16 +73,21 @@ contains
   !> The phase's mass, total energy and volume on block b: its content at the end of the last
   !> step (sum C V), the volume its level set encloses (sum alpha V) and the volume its
   !> content fills at the density of the cells' states (sum C_rho V / rho; a wet cell with
-  !> no state of its own counts alpha V). lo: the phase's first variable in q.
-  function cut_content(cut, b, blk, lo) result(me)
+  !> no state of its own counts alpha V), into me(1:4); and into excess the largest excess of
+  !> content a cut cell holds over its fraction, C_rho / (alpha rho) - 1 over the cells with
+  !> 1/2 <= alpha < 1 (a cut cell's state is at the density of the material beside it, so
+  !> that is mass its pressure does not feel: theory.md 7c; small cells, which their groups
+  !> mix, left out), 0 when none holds more. lo: the phase's first variable in q.
+  subroutine cut_content(cut, b, blk, lo, me, excess)
     type(cut_t), intent(in) :: cut
     integer, intent(in) :: b, lo
     type(block_t), intent(in) :: blk
-    real(wp) :: me(4)
+    real(wp), intent(out) :: me(4), excess
     integer :: i, j, k, n(3)
-    real(wp) :: dv, m, rho
+    real(wp) :: dv, m, rho, a
     n = blk%n
     me = 0.0_wp
+    excess = 0.0_wp
     do i = 1, n(1)
       dv = cell_volume(blk%lay, blk%offset, i)
       me(1) = me(1) + sum(cut%c0(i, 1:n(2), 1:n(3), i_rho, b)) * dv
@@ -92,39 +97,16 @@ contains
         do j = 1, n(2)
           m = cut%c0(i, j, k, i_rho, b)
           rho = blk%q(i, j, k, lo + i_rho - 1)
-          if (m > 0.0_wp .and. rho > 0.0_wp .and. cut%alpha_n(i, j, k, b) > 0.0_wp) then
+          a = cut%alpha_n(i, j, k, b)
+          if (m > 0.0_wp .and. rho > 0.0_wp .and. a > 0.0_wp) then
             me(4) = me(4) + m / rho * dv
+            if (a >= 0.5_wp .and. a < full) excess = max(excess, m / (a * rho) - 1.0_wp)
           else
-            me(4) = me(4) + cut%alpha_n(i, j, k, b) * dv
+            me(4) = me(4) + a * dv
           end if
         end do
       end do
     end do
-  end function cut_content
-
-  !> The largest excess of content a cut cell of block b holds at the end of the last step:
-  !> C_rho / (alpha rho) - 1 over the cells with 1/2 <= alpha < 1, rho its state's density
-  !> (a cut cell's state is at the density of the material beside it, so the excess is mass
-  !> its pressure does not feel: theory.md 7c); 0 when none holds more than its fraction
-  !> says. Small cells (alpha < 1/2) are left out: their groups mix them.
-  real(wp) function cut_excess(cut, b, blk, lo) result(x)
-    type(cut_t), intent(in) :: cut
-    integer, intent(in) :: b, lo
-    type(block_t), intent(in) :: blk
-    integer :: i, j, k
-    real(wp) :: a, rho
-    x = 0.0_wp
-    do k = 1, blk%n(3)
-      do j = 1, blk%n(2)
-        do i = 1, blk%n(1)
-          a = cut%alpha_n(i, j, k, b)
-          if (.not. (a >= 0.5_wp .and. a < full)) cycle
-          rho = blk%q(i, j, k, lo + i_rho - 1)
-          if (.not. rho > 0.0_wp) cycle
-          x = max(x, cut%c0(i, j, k, i_rho, b) / (a * rho) - 1.0_wp)
-        end do
-      end do
-    end do
-  end function cut_excess
+  end subroutine cut_content
 
 end module m_gfm_cut_budget
