@@ -187,8 +187,9 @@ contains
   !> - a cell the surface has left (alpha = 0) gives what content it still holds to its face
   !>   neighbour of largest fraction;
   !> - a cell that has turned full (alpha = 1) gives the mass it holds beyond the density of
-  !>   the full cells beside it (or takes what it lacks, at most half of the receiver's),
-  !>   with its state per mass, to its cut face neighbour of largest fraction.
+  !>   the full cells beside it, with its state per mass, to the cut cells around it (face,
+  !>   edge and corner neighbours) by the material their fractions hold; or takes what it
+  !>   lacks from them by the mass they hold (filled_excess).
   !> The interior's content afterwards goes into q (the caller exchanges it again before
   !> cut_open, unless no block's content changed: changed, bit for bit). Content with no wet
   !> neighbour stays (cut_open counts it as stranded). Beyond box (m_gfm_cut_box) every cell
@@ -260,8 +261,8 @@ contains
     !> The new contents of the moving cells into given (at: where), from the content cq.
     subroutine exchange(cq)
       real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
-      real(wp) :: ex(ph%nflow), u(ph%nflow)
-      integer :: ii, jj, kk, d, s, nb(3), best(3), m
+      real(wp) :: u(ph%nflow), exj(ph%nflow, 26)
+      integer :: ii, jj, kk, d, s, nb(3), best(3), m, nr, recv(3, 26), r, nbs(3, 26), nl, l
       m = 0
       do kk = 1, n(3)
         do jj = 1, n(2)
@@ -276,22 +277,32 @@ contains
               given(:, m) = u
               cycle
             end if
-            call filled_excess(cq, [ii, jj, kk], best, ex)
-            if (best(1) /= huge(1)) u = cq(ii, jj, kk, :) - ex
-            ! what the emptied and the filled neighbours give this cell
+            call filled_excess(cq, [ii, jj, kk], nr, recv, exj)
+            do r = 1, nr
+              u = u - exj(:, r)
+            end do
+            ! what the emptied face neighbours give this cell
             do d = 1, blk%lay%ndim
               do s = -1, 1, 2
                 nb = [ii, jj, kk]
                 nb(d) = nb(d) + s
                 if (.not. in_domain(blk%lay, blk%offset, nb)) cycle
-                if (alpha_at(nb) > 0.0_wp) then
-                  call filled_excess(cq, nb, best, ex)
-                else
-                  best = largest_neighbour(blk%lay, blk%offset, n, e, alpha_e, nb)
-                  ex = cq(nb(1), nb(2), nb(3), :)
-                end if
+                if (alpha_at(nb) > 0.0_wp) cycle
+                best = largest_neighbour(blk%lay, blk%offset, n, e, alpha_e, nb)
                 ! content per cell volume: the volumes differ along r in axisymmetry
-                if (all(best == [ii, jj, kk])) u = u + ex &
+                if (all(best == [ii, jj, kk])) u = u + cq(nb(1), nb(2), nb(3), :) &
+                  * (cell_volume(blk%lay, blk%offset, nb(1)) / cell_volume(blk%lay, blk%offset, ii))
+              end do
+            end do
+            ! what the filled neighbours give (or take from) this cell
+            call ring(blk%lay%ndim, [ii, jj, kk], nbs, nl)
+            do l = 1, nl
+              nb = nbs(:, l)
+              if (.not. in_domain(blk%lay, blk%offset, nb)) cycle
+              if (.not. alpha_at(nb) >= full) cycle
+              call filled_excess(cq, nb, nr, recv, exj)
+              do r = 1, nr
+                if (all(recv(:, r) == [ii, jj, kk])) u = u + exj(:, r) &
                   * (cell_volume(blk%lay, blk%offset, nb(1)) / cell_volume(blk%lay, blk%offset, ii))
               end do
             end do
@@ -324,52 +335,69 @@ contains
       settled = .true.
     end function settled
 
-    !> For a cell c that has turned full since the last step: the content it gives (ex,
-    !> negative where it takes) and to which cut neighbour (to); to(1) = huge(1) otherwise.
-    subroutine filled_excess(cq, c, to, ex)
+    !> For a cell c that has turned full since the last step: the content it gives to each
+    !> of its nr cut neighbours recv (exj, per c's volume; negative where it takes). It gives
+    !> the mass it holds beyond the density of the full cells beside it to the cut cells
+    !> around it (face, edge and corner neighbours with 0 < alpha < 1) in proportion to the
+    !> material their fractions hold, alpha V, so that the drift is spread along the surface
+    !> rather than handed on to one cell; a lack is taken from them in proportion to the
+    !> mass they hold, at most half of each one's, at its own state per mass (so that eps_p
+    !> and w_c stay within range). nr = 0 where c has not turned full or has no cut neighbour.
+    subroutine filled_excess(cq, c, nr, recv, exj)
       real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
       integer, intent(in) :: c(3)
-      integer, intent(out) :: to(3)
-      real(wp), intent(out) :: ex(:)
-      real(wp) :: rho, a, best_a, lack
-      integer :: dd, ss, m(3)
-      to = huge(1)
-      ex = 0.0_wp
+      integer, intent(out) :: nr, recv(3, 26)
+      real(wp), intent(out) :: exj(:, :)
+      real(wp) :: rho, a, ex(size(exj, 1)), wt(26), vc, vj, lack
+      integer :: l, nl, nbs(3, 26), m(3)
+      nr = 0
       if (.not. alpha_at(c) >= full) return
       if (alpha_prev(c(1) + e(1), c(2) + e(2), c(3) + e(3)) >= full) return
       if (.not. cq(c(1), c(2), c(3), i_rho) > 0.0_wp) return
-      best_a = 0.0_wp
-      do dd = 1, blk%lay%ndim
-        do ss = -1, 1, 2
-          m = c
-          m(dd) = m(dd) + ss
-          if (m(dd) < 1 - e(dd) .or. m(dd) > n(dd) + e(dd)) cycle
-          if (.not. in_domain(blk%lay, blk%offset, m)) cycle
-          a = alpha_at(m)
-          if (a > best_a .and. a < full) then
-            best_a = a
-            to = m
-          end if
-        end do
+      call ring(blk%lay%ndim, c, nbs, nl)
+      do l = 1, nl
+        m = nbs(:, l)
+        if (any(m < 1 - e .or. m > n + e)) cycle
+        if (.not. in_domain(blk%lay, blk%offset, m)) cycle
+        a = alpha_at(m)
+        if (.not. (a > 0.0_wp .and. a < full)) cycle
+        nr = nr + 1
+        recv(:, nr) = m
+        wt(nr) = a * cell_volume(blk%lay, blk%offset, m(1))
       end do
-      if (to(1) == huge(1)) return
+      if (nr == 0) return
       rho = full_density(blk%lay, blk%offset, e, alpha_e, cq(:, :, :, i_rho), c)
       if (.not. rho > 0.0_wp) then
-        to = huge(1)
+        nr = 0
         return
       end if
       ex = cq(c(1), c(2), c(3), :) * (1.0_wp - rho / cq(c(1), c(2), c(3), i_rho))
-      if (ex(i_rho) >= 0.0_wp) return
-      if (.not. cq(to(1), to(2), to(3), i_rho) > 0.0_wp) then
-        to = huge(1)
-        ex = 0.0_wp
+      vc = cell_volume(blk%lay, blk%offset, c(1))
+      if (ex(i_rho) >= 0.0_wp) then
+        do l = 1, nr
+          exj(:, l) = ex * (wt(l) / sum(wt(1:nr)))
+        end do
         return
       end if
-      ! a deficit: at most half the receiver's mass (per the giver's volume), and what is
-      ! taken has the receiver's state per mass (so that eps_p and w_c stay within range)
-      lack = 0.5_wp * cq(to(1), to(2), to(3), i_rho) * cell_volume(blk%lay, blk%offset, to(1)) &
-        / cell_volume(blk%lay, blk%offset, c(1))
-      ex = max(ex(i_rho), -lack) * cq(to(1), to(2), to(3), :) / cq(to(1), to(2), to(3), i_rho)
+      ! a lack: taken by the mass each holds (per c's volume), at most half of it
+      do l = 1, nr
+        m = recv(:, l)
+        vj = cell_volume(blk%lay, blk%offset, m(1))
+        wt(l) = max(cq(m(1), m(2), m(3), i_rho), 0.0_wp) * vj
+      end do
+      if (.not. sum(wt(1:nr)) > 0.0_wp) then
+        nr = 0
+        return
+      end if
+      do l = 1, nr
+        m = recv(:, l)
+        exj(:, l) = 0.0_wp
+        if (.not. wt(l) > 0.0_wp) cycle
+        vj = cell_volume(blk%lay, blk%offset, m(1))
+        lack = min(-ex(i_rho) * wt(l) / sum(wt(1:nr)), &
+          0.5_wp * cq(m(1), m(2), m(3), i_rho) * vj / vc)
+        exj(:, l) = -lack * cq(m(1), m(2), m(3), :) / cq(m(1), m(2), m(3), i_rho)
+      end do
     end subroutine filled_excess
   end subroutine cut_donate
 end module m_gfm_cut_cells
