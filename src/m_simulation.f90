@@ -156,6 +156,7 @@ contains
     call blocks_allocate(sim%lay, comm_rank(), sim%ph%nvar, sim%blocks)
     ! conserve = 'auto' or 'cut_cell': by the fluxes where m_gfm_cut applies (its exchanges
     ! take sim_plan's whole plan), else by the fix (below)
+    sim%cut%body_dead = cfg%body_follow
     call cut_setup(sim%cut, cfg%conserve, cfg%heat_conduction .or. cfg%reaction, sim%lay, &
       sim%ph, sim%ls, sim%blocks)
     call sim_plan(sim)

@@ -14,7 +14,7 @@ module m_gfm_cut_close
   use m_gfm_cut_cells, only: full
   implicit none
   private
-  public :: relax_closing, cut_follow
+  public :: relax_closing, cut_follow, cut_follow_body
 
 contains
 
@@ -221,5 +221,84 @@ contains
       end do
     end do
   end subroutine cut_follow
+
+  !> A material body's level set towards its content, at the step's end (manual/theory.md
+  !> section 7c): in each cut cell of the phase p whose surface is a body's (not a void's
+  !> that binds it), the fraction its content fills at its state's density, f = C_rho / rho
+  !> (not capped: a nearly full cell that holds more moves the surface beyond it), and the
+  !> level set's fraction alpha differ by the drift x = f - alpha. Beyond a dead band the
+  !> body grows (x > dead) or, beyond six times it, shrinks (x < -6 dead): the drift is
+  !> mostly material the level set has not let out, while a shrinking move on a thin sheet
+  !> sliding along a wall broke it into cells of alternating sign. The move (at most 1/4 of
+  !> a cell a step) is spread as cut_follow's, and the body's level set moves by it times h.
+  !> moved: whether any level set moved on this block.
+  subroutine cut_follow_body(blk, ils, v0, ls, p, alpha, content_rho, dead, moved)
+    type(block_t), intent(inout) :: blk
+    integer, intent(in) :: ils, v0, p   !< q's index before the level sets, the phase's; phase
+    type(ls_set_t), intent(in) :: ls
+    real(wp), intent(in) :: alpha(:, :, :), content_rho(:, :, :), dead
+    logical, intent(out) :: moved
+    real(wp), allocatable :: d(:, :, :, :)
+    integer :: i, j, k, l, lb, o1, o2, o3, m(3), nl, r(3)
+    real(wp) :: a, h, rho, low, w, x
+    real(wp), parameter :: kernel(-1:1) = [0.25_wp, 0.5_wp, 0.25_wp]
+    moved = .false.
+    if (.not. any(ls%kind == ls_material)) return
+    h = minval(blk%lay%dx(1:blk%lay%ndim))
+    nl = ls%n
+    r = merge(1, 0, [1, 2, 3] <= blk%lay%ndim)   ! the kernel's reach along each direction
+    allocate(d(0:blk%n(1)+1, 0:blk%n(2)+1, 0:blk%n(3)+1, nl))
+    d = 0.0_wp
+    do k = 1, blk%n(3)
+      do j = 1, blk%n(2)
+        do i = 1, blk%n(1)
+          a = alpha(i, j, k)
+          if (.not. (a > 0.0_wp .and. a < full)) cycle
+          ! the body whose surface this is: the lowest phi over the phase's bodies
+          lb = 0
+          low = huge(1.0_wp)
+          do l = 1, nl
+            if (ls%kind(l) /= ls_material .or. ls%phase(l) /= p) cycle
+            if (blk%q(i, j, k, ils + l) < low) then
+              low = blk%q(i, j, k, ils + l)
+              lb = l
+            end if
+          end do
+          if (lb == 0) cycle
+          ! (a void's surface, where one binds: the region is max(phi_body, -phi_void))
+          if (any(ls%kind == ls_void .and. -blk%q(i, j, k, ils + 1:ils + nl) > low)) cycle
+          rho = blk%q(i, j, k, v0 + i_rho)
+          if (.not. (rho > 0.0_wp .and. content_rho(i, j, k) > 0.0_wp)) cycle
+          x = content_rho(i, j, k) / rho - a
+          x = max(x - dead, 0.0_wp) + min(x + 6.0_wp * dead, 0.0_wp)
+          d(i, j, k, lb) = max(-0.25_wp, min(0.25_wp, x))
+        end do
+      end do
+    end do
+    do l = 1, nl
+      if (.not. any(abs(d(:, :, :, l)) > 0.0_wp)) cycle
+      moved = .true.
+      do k = 1, blk%n(3)
+        do j = 1, blk%n(2)
+          do i = 1, blk%n(1)
+            a = 0.0_wp
+            do o3 = -r(3), r(3)
+              do o2 = -r(2), r(2)
+                do o1 = -1, 1
+                  m = [i + o1, j + o2, k + o3]
+                  w = kernel(o1)
+                  if (r(2) > 0) w = w * kernel(o2)
+                  if (r(3) > 0) w = w * kernel(o3)
+                  a = a + w * d(m(1), m(2), m(3), l)
+                end do
+              end do
+            end do
+            ! (a body's phi is negative inside: it grows as phi falls)
+            if (abs(a) > 0.0_wp) blk%q(i, j, k, ils + l) = blk%q(i, j, k, ils + l) - a * h
+          end do
+        end do
+      end do
+    end do
+  end subroutine cut_follow_body
 
 end module m_gfm_cut_close

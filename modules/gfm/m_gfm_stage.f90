@@ -22,7 +22,7 @@ module m_gfm_stage
   use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_near
   use m_gfm_cut_budget, only: cut_strand, cut_scalars
   use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty
-  use m_gfm_cut_close, only: cut_follow
+  use m_gfm_cut_close, only: cut_follow, cut_follow_body
   use m_gfm_cut_cells, only: cut_donate
   use m_state, only: n_euler, i_rho
   use m_boundary, only: ghosts_all, ghosts_level_sets, bc_outflow
@@ -345,7 +345,9 @@ contains
     real(wp) :: w(3)                          !< the stages' weights
     real(wp) :: total(7)
     integer :: b, p, m, lo(3), hi(3), n(3), v0, box(2, 3)
+    logical :: body_moved, followed   !< a material body's level set moved (cut_follow_body)
     if (.not. cut%on) return
+    body_moved = .false.
     if (mode == states_start) call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, &
       gf%dormant)
     if (mode == states_end) call end_halo()
@@ -458,6 +460,9 @@ contains
           ! (before the rest state replaces the states of the cells whose centre is outside)
           call cut_follow(blk, ph%ils, ph%lo(cut%p) - 1, ls, f%alpha, &
             cut%c(:, :, :, i_rho, b), cut%follow)
+          if (cut%body_dead > 0.0_wp) call cut_follow_body(blk, ph%ils, ph%lo(cut%p) - 1, &
+            ls, cut%p, f%alpha, cut%c(:, :, :, i_rho, b), cut%body_dead, followed)
+          body_moved = body_moved .or. followed
           call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
         end if
       end associate
@@ -470,7 +475,9 @@ contains
     if (failed) return
     ! the geometry holds for the next step's first stage where nothing moves the level sets
     ! before it: a void's level set follows its content at every step (cut_follow)
-    cut%kept = .not. gf%dormant .and. .not. any(ls%kind == ls_void)
+    ! and a material body's follows it where they drift apart (cut_follow_body)
+    body_moved = comm_any(body_moved)
+    cut%kept = .not. gf%dormant .and. .not. any(ls%kind == ls_void) .and. .not. body_moved
     ! what came in through the domain's sides in this step (the stages' weights) and what
     ! the cell rules sent out or stranded, summed over the blocks in the order of their ids
     allocate(step(7, size(blocks)))
