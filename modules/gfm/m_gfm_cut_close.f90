@@ -148,14 +148,12 @@ contains
     type(ls_set_t), intent(in) :: ls
     real(wp), intent(in) :: alpha(:, :, :), content_rho(:, :, :), gain
     real(wp), allocatable :: d(:, :, :, :)
-    integer :: i, j, k, l, lv, o1, o2, o3, m(3), nl, r(3)
-    real(wp) :: a, f, h, rho, top, w
+    integer :: i, j, k, l, lv, nl
+    real(wp) :: a, f, h, rho, top
     real(wp), parameter :: remnant = 0.01_wp   !< a closed remnant's centre value (cells)
-    real(wp), parameter :: kernel(-1:1) = [0.25_wp, 0.5_wp, 0.25_wp]
     if (.not. any(ls%kind == ls_void)) return
     h = minval(blk%lay%dx(1:blk%lay%ndim))
     nl = ls%n
-    r = merge(1, 0, [1, 2, 3] <= blk%lay%ndim)   ! the kernel's reach along each direction
     ! each cut cell's move of its void's level set, d (in cells), one array per level set
     allocate(d(0:blk%n(1)+1, 0:blk%n(2)+1, 0:blk%n(3)+1, nl))
     d = 0.0_wp
@@ -194,32 +192,7 @@ contains
         end do
       end do
     end do
-    ! the moves spread over each cell's neighbours by the weights (1/4, 1/2, 1/4) along each
-    ! direction, the transpose of the averaging that takes phi to the corners (m_levelset_cut):
-    ! a move that alternates from cell to cell changes no corner, so no fraction could ever
-    ! take it back; pointwise moves fed it and a void's surface roughened at rest
-    do l = 1, nl
-      if (.not. any(abs(d(:, :, :, l)) > 0.0_wp)) cycle
-      do k = 1, blk%n(3)
-        do j = 1, blk%n(2)
-          do i = 1, blk%n(1)
-            a = 0.0_wp
-            do o3 = -r(3), r(3)
-              do o2 = -r(2), r(2)
-                do o1 = -1, 1
-                  m = [i + o1, j + o2, k + o3]
-                  w = kernel(o1)
-                  if (r(2) > 0) w = w * kernel(o2)
-                  if (r(3) > 0) w = w * kernel(o3)
-                  a = a + w * d(m(1), m(2), m(3), l)
-                end do
-              end do
-            end do
-            if (abs(a) > 0.0_wp) blk%q(i, j, k, ils + l) = blk%q(i, j, k, ils + l) + a * h
-          end do
-        end do
-      end do
-    end do
+    call spread_moves(blk, ils, d, h)
   end subroutine cut_follow
 
   !> A material body's level set towards its content, at the step's end (manual/theory.md
@@ -239,14 +212,12 @@ contains
     real(wp), intent(in) :: alpha(:, :, :), content_rho(:, :, :), dead
     logical, intent(out) :: moved
     real(wp), allocatable :: d(:, :, :, :)
-    integer :: i, j, k, l, lb, o1, o2, o3, m(3), nl, r(3)
-    real(wp) :: a, h, rho, low, w, x
-    real(wp), parameter :: kernel(-1:1) = [0.25_wp, 0.5_wp, 0.25_wp]
+    integer :: i, j, k, l, lb, nl
+    real(wp) :: a, h, rho, low, x
     moved = .false.
     if (.not. any(ls%kind == ls_material)) return
     h = minval(blk%lay%dx(1:blk%lay%ndim))
     nl = ls%n
-    r = merge(1, 0, [1, 2, 3] <= blk%lay%ndim)   ! the kernel's reach along each direction
     allocate(d(0:blk%n(1)+1, 0:blk%n(2)+1, 0:blk%n(3)+1, nl))
     d = 0.0_wp
     do k = 1, blk%n(3)
@@ -275,9 +246,27 @@ contains
         end do
       end do
     end do
-    do l = 1, nl
+    moved = any(abs(d) > 0.0_wp)
+    ! (a body's phi is negative inside: it grows as phi falls)
+    if (moved) call spread_moves(blk, ils, -d, h)
+  end subroutine cut_follow_body
+
+  !> The level sets' moves d (in cells, per level set; zero beyond the block) spread over
+  !> each cell's neighbours by the weights (1/4, 1/2, 1/4) along each direction and added to
+  !> the level sets times h. The spreading is the transpose of the averaging that takes phi
+  !> to the corners (m_levelset_cut): a move that alternates from cell to cell changes no
+  !> corner, so no fraction could ever take it back; pointwise moves fed it and a void's
+  !> surface roughened at rest.
+  subroutine spread_moves(blk, ils, d, h)
+    type(block_t), intent(inout) :: blk
+    integer, intent(in) :: ils
+    real(wp), intent(in) :: d(0:, 0:, 0:, :), h
+    real(wp), parameter :: kernel(-1:1) = [0.25_wp, 0.5_wp, 0.25_wp]
+    integer :: i, j, k, l, o1, o2, o3, m(3), r(3)
+    real(wp) :: a, w
+    r = merge(1, 0, [1, 2, 3] <= blk%lay%ndim)   ! the kernel's reach along each direction
+    do l = 1, size(d, 4)
       if (.not. any(abs(d(:, :, :, l)) > 0.0_wp)) cycle
-      moved = .true.
       do k = 1, blk%n(3)
         do j = 1, blk%n(2)
           do i = 1, blk%n(1)
@@ -293,12 +282,11 @@ contains
                 end do
               end do
             end do
-            ! (a body's phi is negative inside: it grows as phi falls)
-            if (abs(a) > 0.0_wp) blk%q(i, j, k, ils + l) = blk%q(i, j, k, ils + l) - a * h
+            if (abs(a) > 0.0_wp) blk%q(i, j, k, ils + l) = blk%q(i, j, k, ils + l) + a * h
           end do
         end do
       end do
     end do
-  end subroutine cut_follow_body
+  end subroutine spread_moves
 
 end module m_gfm_cut_close
