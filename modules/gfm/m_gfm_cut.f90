@@ -69,7 +69,7 @@ module m_gfm_cut
     real(wp) :: follow = 1.0_wp                   !< gain of a void's level set towards content
     !> a material body's level set follows its content where they differ by more than this
     !> (fraction of a cell; &numerics body_follow; 0: not at all): m_gfm_cut_close
-    real(wp) :: body_dead = 0.05_wp
+    real(wp) :: body_dead = 0.0_wp
     type(cut_faces_t), allocatable :: faces(:)    !< (block) geometry of the current stage
     type(fraction_t), allocatable :: ext(:)       !< (block) its fractions into the halo
     type(fraction_t), allocatable :: ext_n(:)     !< (block) the same at the last step's end
