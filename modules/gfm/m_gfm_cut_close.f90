@@ -192,7 +192,7 @@ contains
         end do
       end do
     end do
-    call spread_moves(blk, ils, d, h)
+    call spread_moves(blk, ils, d)
   end subroutine cut_follow
 
   !> A material body's level set towards its content, at the step's end (manual/theory.md
@@ -213,10 +213,9 @@ contains
     logical, intent(out) :: moved
     real(wp), allocatable :: d(:, :, :, :)
     integer :: i, j, k, l, lb, nl
-    real(wp) :: a, h, rho, low, x
+    real(wp) :: a, rho, low, x
     moved = .false.
     if (.not. any(ls%kind == ls_material)) return
-    h = minval(blk%lay%dx(1:blk%lay%ndim))
     nl = ls%n
     allocate(d(0:blk%n(1)+1, 0:blk%n(2)+1, 0:blk%n(3)+1, nl))
     d = 0.0_wp
@@ -248,22 +247,23 @@ contains
     end do
     moved = any(abs(d) > 0.0_wp)
     ! (a body's phi is negative inside: it grows as phi falls)
-    if (moved) call spread_moves(blk, ils, -d, h)
+    if (moved) call spread_moves(blk, ils, -d)
   end subroutine cut_follow_body
 
   !> The level sets' moves d (in cells, per level set; zero beyond the block) spread over
   !> each cell's neighbours by the weights (1/4, 1/2, 1/4) along each direction and added to
-  !> the level sets times h. The spreading is the transpose of the averaging that takes phi
+  !> the level sets times the cell size h. The spreading is the transpose of the averaging that takes phi
   !> to the corners (m_levelset_cut): a move that alternates from cell to cell changes no
   !> corner, so no fraction could ever take it back; pointwise moves fed it and a void's
   !> surface roughened at rest.
-  subroutine spread_moves(blk, ils, d, h)
+  subroutine spread_moves(blk, ils, d)
     type(block_t), intent(inout) :: blk
     integer, intent(in) :: ils
-    real(wp), intent(in) :: d(0:, 0:, 0:, :), h
+    real(wp), intent(in) :: d(0:, 0:, 0:, :)
     real(wp), parameter :: kernel(-1:1) = [0.25_wp, 0.5_wp, 0.25_wp]
     integer :: i, j, k, l, o1, o2, o3, m(3), r(3)
-    real(wp) :: a, w
+    real(wp) :: a, w, h
+    h = minval(blk%lay%dx(1:blk%lay%ndim))
     r = merge(1, 0, [1, 2, 3] <= blk%lay%ndim)   ! the kernel's reach along each direction
     do l = 1, size(d, 4)
       if (.not. any(abs(d(:, :, :, l)) > 0.0_wp)) cycle
