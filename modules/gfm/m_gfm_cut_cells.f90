@@ -8,7 +8,7 @@ module m_gfm_cut_cells
   use m_layout, only: layout_t, cell_volume
   use m_blocks, only: block_t
   use m_phases, only: phases_t
-  use m_state, only: i_rho
+  use m_state, only: i_rho, i_epsp, i_wcold
   use m_gfm_cut_work, only: fit_work
   implicit none
   private
@@ -289,9 +289,7 @@ contains
                 if (.not. in_domain(blk%lay, blk%offset, nb)) cycle
                 if (alpha_at(nb) > 0.0_wp) cycle
                 best = largest_neighbour(blk%lay, blk%offset, n, e, alpha_e, nb)
-                ! content per cell volume: the volumes differ along r in axisymmetry
-                if (all(best == [ii, jj, kk])) u = u + cq(nb(1), nb(2), nb(3), :) &
-                  * (cell_volume(blk%lay, blk%offset, nb(1)) / cell_volume(blk%lay, blk%offset, ii))
+                if (all(best == [ii, jj, kk])) u = u + emptied_gift(cq, nb, [ii, jj, kk])
               end do
             end do
             ! what the filled neighbours give (or take from) this cell
@@ -311,6 +309,23 @@ contains
         end do
       end do
     end subroutine exchange
+
+    !> What the emptied cell d gives cell c (per c's volume: the volumes differ along r in
+    !> axisymmetry): its content. Where the fluxes drew more than it held (its mass below
+    !> zero), c gives that mass back at c's own eps_p and w_c per mass, not at d's: a debt
+    !> of mass repaid at d's ratio could leave c with more mass than plastic strain to carry
+    !> and negative eps_p (theory.md 7b). Mass, momentum and energy move as they are.
+    function emptied_gift(cq, d, c) result(g)
+      real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
+      integer, intent(in) :: d(3), c(3)
+      real(wp) :: g(size(cq, 4))
+      g = cq(d(1), d(2), d(3), :) * (cell_volume(blk%lay, blk%offset, d(1)) &
+        / cell_volume(blk%lay, blk%offset, c(1)))
+      if (size(g) < i_wcold) return
+      if (.not. (g(i_rho) < 0.0_wp .and. cq(c(1), c(2), c(3), i_rho) > 0.0_wp)) return
+      g(i_epsp:i_wcold) = g(i_rho) * cq(c(1), c(2), c(3), i_epsp:i_wcold) &
+        / cq(c(1), c(2), c(3), i_rho)
+    end function emptied_gift
 
     real(wp) function alpha_at(c)
       integer, intent(in) :: c(3)
