@@ -263,6 +263,22 @@ contains
       real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
       real(wp) :: u(ph%nflow), exj(ph%nflow, 26)
       integer :: ii, jj, kk, d, s, nb(3), best(3), m, nr, recv(3, 26), r, nbs(3, 26), nl, l
+      !> the cells within one cell of the block that have turned full since the last step's
+      !> end: the only ones that give to (or take from) the cut cells around them
+      logical, allocatable :: filling(:, :, :)
+      logical :: any_filling
+      integer :: w(3)
+      w = merge(1, 0, [1, 2, 3] <= blk%lay%ndim)
+      allocate(filling(1-w(1):n(1)+w(1), 1-w(2):n(2)+w(2), 1-w(3):n(3)+w(3)))
+      do kk = 1 - w(3), n(3) + w(3)
+        do jj = 1 - w(2), n(2) + w(2)
+          do ii = 1 - w(1), n(1) + w(1)
+            filling(ii, jj, kk) = alpha_at([ii, jj, kk]) >= full .and. &
+              .not. alpha_prev(ii + e(1), jj + e(2), kk + e(3)) >= full
+          end do
+        end do
+      end do
+      any_filling = any(filling)
       m = 0
       do kk = 1, n(3)
         do jj = 1, n(2)
@@ -293,11 +309,15 @@ contains
               end do
             end do
             ! what the filled neighbours give (or take from) this cell
+            if (.not. any_filling) then
+              given(:, m) = u
+              cycle
+            end if
             call ring(blk%lay%ndim, [ii, jj, kk], nbs, nl)
             do l = 1, nl
               nb = nbs(:, l)
+              if (.not. filling(nb(1), nb(2), nb(3))) cycle
               if (.not. in_domain(blk%lay, blk%offset, nb)) cycle
-              if (.not. alpha_at(nb) >= full) cycle
               call filled_excess(cq, nb, nr, recv, exj)
               do r = 1, nr
                 if (all(recv(:, r) == [ii, jj, kk])) u = u + exj(:, r) &
