@@ -11,6 +11,7 @@ module m_run_log
   use m_simulation, only: sim_t
   use m_memory, only: mem_parts, mem_text
   use m_levelset_bodies, only: ls_material
+  use m_gfm_cut_close, only: body_shrink
   use m_run_report, only: run_facts_t, run_facts, run_json_write, thermal_reason, halo_line, &
     interfaces_reason
   implicit none
@@ -69,9 +70,9 @@ contains
     if (s%ls%n > 0) call log_line('gfm: cut-cell update ' // trim(s%cut%reason))
     if (s%cut%on .and. any(s%ls%kind == ls_material)) then
       if (s%cut%body_dead > 0.0_wp) then
-        write(line, '(a,f5.3,a)') 'gfm: a body''s level set follows its content where they ' &
-          // 'drift apart by more than ', s%cut%body_dead, ' of a cell (grows; shrinks beyond ' &
-          // 'six times that: &numerics body_follow)'
+        write(line, '(a,f5.3,a,f3.1,a)') 'gfm: a body''s level set follows its content where ' &
+          // 'they drift apart by more than ', s%cut%body_dead, ' of a cell (grows; shrinks ' &
+          // 'beyond ', body_shrink, ' times that: &numerics body_follow)'
       else
         line = 'gfm: a body''s level set does not follow its content (&numerics body_follow = 0)'
       end if

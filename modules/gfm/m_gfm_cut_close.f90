@@ -16,6 +16,10 @@ module m_gfm_cut_close
   private
   public :: relax_closing, cut_follow, cut_follow_body
 
+  !> a body's level set shrinks towards its content only beyond this many times the dead band
+  !> (&numerics body_follow) it grows beyond: cut_follow_body
+  real(wp), parameter, public :: body_shrink = 6.0_wp
+
 contains
 
   !> A cell every corner of which lies in the phase while its centre lies outside (a
@@ -148,7 +152,7 @@ contains
     type(ls_set_t), intent(in) :: ls
     real(wp), intent(in) :: alpha(:, :, :), content_rho(:, :, :), gain
     real(wp), allocatable :: d(:, :, :, :)
-    integer :: i, j, k, l, lv, nl
+    integer :: i, j, k, lv, nl
     real(wp) :: a, f, h, rho, top
     real(wp), parameter :: remnant = 0.01_wp   !< a closed remnant's centre value (cells)
     if (.not. any(ls%kind == ls_void)) return
@@ -163,15 +167,8 @@ contains
           a = alpha(i, j, k)
           if (.not. a > 0.0_wp) cycle
           ! the void whose surface this is: the largest -phi over the void bodies
-          lv = 0
-          top = -huge(1.0_wp)
-          do l = 1, nl
-            if (ls%kind(l) /= ls_void) cycle
-            if (-blk%q(i, j, k, ils + l) > top) then
-              top = -blk%q(i, j, k, ils + l)
-              lv = l
-            end if
-          end do
+          call lowest_level_set(ls, ls_void, 0, blk%q(i, j, k, ils + 1:ils + nl), lv, top)
+          top = -top
           ! (a material body's surface, where one lies nearer than the void's)
           if (any(ls%kind == ls_material .and. blk%q(i, j, k, ils + 1:ils + nl) &
             < -top)) cycle
@@ -212,7 +209,7 @@ contains
     real(wp), intent(in) :: alpha(:, :, :), content_rho(:, :, :), dead
     logical, intent(out) :: moved
     real(wp), allocatable :: d(:, :, :, :)
-    integer :: i, j, k, l, lb, nl
+    integer :: i, j, k, lb, nl
     real(wp) :: a, rho, low, x
     moved = .false.
     if (.not. any(ls%kind == ls_material)) return
@@ -225,22 +222,14 @@ contains
           a = alpha(i, j, k)
           if (.not. (a > 0.0_wp .and. a < full)) cycle
           ! the body whose surface this is: the lowest phi over the phase's bodies
-          lb = 0
-          low = huge(1.0_wp)
-          do l = 1, nl
-            if (ls%kind(l) /= ls_material .or. ls%phase(l) /= p) cycle
-            if (blk%q(i, j, k, ils + l) < low) then
-              low = blk%q(i, j, k, ils + l)
-              lb = l
-            end if
-          end do
+          call lowest_level_set(ls, ls_material, p, blk%q(i, j, k, ils + 1:ils + nl), lb, low)
           if (lb == 0) cycle
           ! (a void's surface, where one binds: the region is max(phi_body, -phi_void))
           if (any(ls%kind == ls_void .and. -blk%q(i, j, k, ils + 1:ils + nl) > low)) cycle
           rho = blk%q(i, j, k, v0 + i_rho)
           if (.not. (rho > 0.0_wp .and. content_rho(i, j, k) > 0.0_wp)) cycle
           x = content_rho(i, j, k) / rho - a
-          x = max(x - dead, 0.0_wp) + min(x + 6.0_wp * dead, 0.0_wp)
+          x = max(x - dead, 0.0_wp) + min(x + body_shrink * dead, 0.0_wp)
           d(i, j, k, lb) = max(-0.25_wp, min(0.25_wp, x))
         end do
       end do
@@ -249,6 +238,28 @@ contains
     ! (a body's phi is negative inside: it grows as phi falls)
     if (moved) call spread_moves(blk, ils, -d)
   end subroutine cut_follow_body
+
+  !> Of the level sets of kind `kind` (of phase p as well, where p > 0), the one lowest at a
+  !> cell whose level sets are phis: its number l (the first on a tie; 0 where there is none)
+  !> and its value low (huge where there is none).
+  pure subroutine lowest_level_set(ls, kind, p, phis, l, low)
+    type(ls_set_t), intent(in) :: ls
+    integer, intent(in) :: kind, p
+    real(wp), intent(in) :: phis(:)
+    integer, intent(out) :: l
+    real(wp), intent(out) :: low
+    integer :: m
+    l = 0
+    low = huge(1.0_wp)
+    do m = 1, size(phis)
+      if (ls%kind(m) /= kind) cycle
+      if (p > 0 .and. ls%phase(m) /= p) cycle
+      if (phis(m) < low) then
+        low = phis(m)
+        l = m
+      end if
+    end do
+  end subroutine lowest_level_set
 
   !> The level sets' moves d (in cells, per level set; zero beyond the block) spread over
   !> each cell's neighbours by the weights (1/4, 1/2, 1/4) along each direction and added to
