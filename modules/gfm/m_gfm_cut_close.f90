@@ -253,7 +253,11 @@ contains
     low = huge(1.0_wp)
     do m = 1, size(phis)
       if (ls%kind(m) /= kind) cycle
-      if (p > 0 .and. ls%phase(m) /= p) cycle
+      ! (not one test: Fortran may evaluate both operands, and a set of voids alone may
+      ! carry no phases)
+      if (p > 0) then
+        if (ls%phase(m) /= p) cycle
+      end if
       if (phis(m) < low) then
         low = phis(m)
         l = m
