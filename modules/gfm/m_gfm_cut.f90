@@ -40,14 +40,14 @@ module m_gfm_cut
   use m_gfm_cut_geometry, only: cut_block_geometry, wet_reach_box
   use m_gfm_cut_work, only: cut_work_t, fit_work
   use m_gfm_cut_box, only: box_union, box_nonzero, box_whole, box_empty, stage_content, &
-    put_states, near_cells, box_grown
+    put_states, above_beyond, box_grown
   implicit none
   private
   public :: cut_t, cut_setup, cut_geometry, cut_open, cut_update
   public :: cut_boxes, cut_near
 
   !> the dry cells kept up to date around the box of the content and the geometry's
-  !> (m_gfm_cut_box's near_cells): the passes read the content only in the box (theirs, the
+  !> (m_gfm_cut_box): the passes read the content only in the box (theirs, the
   !> next open's) and in wet cells, and the surface moves less than a cell in a stage, so that
   !> the next open's box lies within a cell of these; one cell more as a margin
   integer, parameter :: near_reach = 2
@@ -291,12 +291,8 @@ contains
       ! all
       g = lay%ng
       cut%put_box(:, :, b) = box_grown(box_union(box, cut%near_box(:, :, b)), near_reach, n)
-      call near_cells(cut%put_box(:, :, b), 0, n, cut%work%near)
-      if (any(.not. cut%work%near .and. .not. bigphi(1+g(1):n(1)+g(1), 1+g(2):n(2)+g(2), &
-        1+g(3):n(3)+g(3)) > band)) then
-        cut%work%near = .true.
-        cut%put_box(:, :, b) = box_whole(n)
-      end if
+      if (.not. above_beyond(cut%put_box(:, :, b), bigphi(1+g(1):n(1)+g(1), &
+        1+g(2):n(2)+g(2), 1+g(3):n(3)+g(3)), band)) cut%put_box(:, :, b) = box_whole(n)
       do m = 1, nf
         if (final) then
           do k = box(1, 3), box(2, 3)
@@ -306,7 +302,7 @@ contains
             end do
           end do
         end if
-        call put_states(box, cut%work%near, kind, &
+        call put_states(box, cut%put_box(:, :, b), kind, &
           alpha_e(1+e(1):n(1)+e(1), 1+e(2):n(2)+e(2), 1+e(3):n(3)+e(3)), &
           cut%c(1:n(1), 1:n(2), 1:n(3), m, b), blk%q0(:, :, :, lo + m - 1), &
           q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
@@ -522,7 +518,7 @@ contains
     type(phases_t), intent(in) :: ph
     real(wp), intent(in) :: dt
     real(wp) :: a
-    integer :: lo, n(3), m, pb(2, 3), nz(2, 3)
+    integer :: lo, n(3), m, pb(2, 3), nz(2, 3), near(2, 3)
     lo = ph%lo(cut%p)
     n = blk%n
     a = 0.0_wp
@@ -550,10 +546,10 @@ contains
     ! (a block that woke at this stage has no wet box of this stage: every cell)
     if (cut%woke(b)) cut%near_box(:, :, b) = box_whole(n)
     cut%woke(b) = .false.
-    call near_cells(cut%near_box(:, :, b), near_reach, n, cut%work%near)
+    near = box_grown(cut%near_box(:, :, b), near_reach, n)
     ! (variable by variable, the content and q's copy of it in one pass)
     do m = 1, ph%nflow
-      call stage_content(stage == 1, a, dt, cut%box(:, :, b), cut%work%near, &
+      call stage_content(stage == 1, a, dt, cut%box(:, :, b), near, &
         cut%c0(1:n(1), 1:n(2), 1:n(3), m, b), blk%rhs(:, :, :, lo + m - 1), &
         cut%c(1:n(1), 1:n(2), 1:n(3), m, b), blk%q(1:n(1), 1:n(2), 1:n(3), lo + m - 1))
     end do

@@ -7,7 +7,7 @@
 !> blocks' corners. The states beyond it are assumed finite (0 times a state is a zero).
 !> Boxes are m_gfm_cut's to keep; the kernels here take arrays and a box and nothing else.
 !> Of the dry cells beyond the box, the passes write the phase's variables in q only where
-!> something may read them (near_cells: near the box); deep in a block's dry part q keeps
+!> something may read them (near the box: a box grown by a reach); deep in a block's dry part q keeps
 !> its state, which the ghost fill or the rest state makes again before anything reads it
 !> (m_gfm_cut's cut_open).
 module m_gfm_cut_box
@@ -15,7 +15,7 @@ module m_gfm_cut_box
   implicit none
   private
   public :: box_union, box_nonzero, box_below, box_whole, box_empty, stage_content, put_states
-  public :: near_cells, box_grown
+  public :: above_beyond, box_grown
 
   !> a box without a cell
   integer, parameter :: box_empty(2, 3) = reshape([1, 0, 1, 0, 1, 0], [2, 3])
@@ -45,74 +45,98 @@ contains
   end function box_whole
 
   !> the smallest box of the cells where some variable of c is not zero (of either sign; a
-  !> NaN is not zero)
+  !> NaN is not zero). Row by row, each variable is searched only beyond the cells that the
+  !> ones before it already put in the row's span.
   function box_nonzero(c) result(box)
     real(wp), intent(in) :: c(:, :, :, :)
-    integer :: box(2, 3), m
-    box = box_where(c(:, :, :, 1), .false.)
-    do m = 2, size(c, 4)
-      box = box_union(box, box_where(c(:, :, :, m), .false.))
-    end do
-  end function box_nonzero
-
-  !> the smallest box of the cells where a < level (0 unless given)
-  function box_below(a, level) result(box)
-    real(wp), intent(in) :: a(:, :, :)
-    real(wp), intent(in), optional :: level
-    integer :: box(2, 3)
-    box = box_where(a, .true., level)
-  end function box_below
-
-  !> the smallest box of the cells where a < level (below; level 0 unless given) or a is not
-  !> zero (else); one pass along the rows
-  function box_where(a, below, level) result(box)
-    real(wp), intent(in) :: a(:, :, :)
-    logical, intent(in) :: below
-    real(wp), intent(in), optional :: level
-    integer :: box(2, 3), i, j, k
-    logical :: hit(size(a, 1)), any_hit
-    real(wp) :: lv
-    lv = 0.0_wp
-    if (present(level)) lv = level
-    box(1, :) = shape(a) + 1
+    integer :: box(2, 3), i, j, k, m, i0, i1, nx
+    nx = size(c, 1)
+    box(1, :) = shape(c(:, :, :, 1)) + 1
     box(2, :) = 0
-    do k = 1, size(a, 3)
-      do j = 1, size(a, 2)
-        if (below) then
-          hit = a(:, j, k) < lv
-        else
-          hit = .not. abs(a(:, j, k)) <= 0.0_wp
-        end if
-        any_hit = .false.
-        do i = 1, size(a, 1)
-          any_hit = any_hit .or. hit(i)
+    do k = 1, size(c, 3)
+      do j = 1, size(c, 2)
+        i0 = nx + 1
+        i1 = 0
+        do m = 1, size(c, 4)
+          do i = 1, i0 - 1
+            if (.not. abs(c(i, j, k, m)) <= 0.0_wp) then
+              i0 = i
+              exit
+            end if
+          end do
+          do i = nx, max(i1, i0 - 1) + 1, -1
+            if (.not. abs(c(i, j, k, m)) <= 0.0_wp) then
+              i1 = i
+              exit
+            end if
+          end do
         end do
-        if (.not. any_hit) cycle
-        box(1, 1) = min(box(1, 1), findloc(hit, .true., dim=1))
-        box(2, 1) = max(box(2, 1), findloc(hit, .true., dim=1, back=.true.))
+        if (i0 > i1) cycle
+        box(1, 1) = min(box(1, 1), i0)
+        box(2, 1) = max(box(2, 1), i1)
         box(:, 2) = [min(box(1, 2), j), max(box(2, 2), j)]
         box(:, 3) = [min(box(1, 3), k), max(box(2, 3), k)]
       end do
     end do
-  end function box_where
+  end function box_nonzero
 
-  !> The cells of a block of n cells (near, over its interior) within reach cells of box: the dry cells
-  !> beyond the box that the stage's passes keep up to date. (A cell of the halo is read as
-  !> content only near a wet cell of the block that reads it, and the box of the block it
-  !> belongs to holds every cell within a cell of one wet in its halo: m_gfm_cut_geometry.)
-  pure subroutine near_cells(box, reach, n, near)
-    integer, intent(in) :: box(2, 3), reach, n(3)
-    logical, allocatable, intent(inout) :: near(:, :, :)   !< (sized to n when it is not)
-    integer :: g(2, 3)
-    if (allocated(near)) then
-      if (any(shape(near) /= n)) deallocate(near)
-    end if
-    if (.not. allocated(near)) allocate(near(n(1), n(2), n(3)))
-    near = .false.
-    g = box_grown(box, reach, n)
-    if (any(g(1, :) > g(2, :))) return
-    near(g(1, 1):g(2, 1), g(1, 2):g(2, 2), g(1, 3):g(2, 3)) = .true.
-  end subroutine near_cells
+  !> the smallest box of the cells where a < level (0 unless given); along each row the
+  !> first such cell from either end
+  function box_below(a, level) result(box)
+    real(wp), intent(in) :: a(:, :, :)
+    real(wp), intent(in), optional :: level
+    integer :: box(2, 3), i, j, k, i0, i1, nx
+    real(wp) :: lv
+    lv = 0.0_wp
+    if (present(level)) lv = level
+    nx = size(a, 1)
+    box(1, :) = shape(a) + 1
+    box(2, :) = 0
+    do k = 1, size(a, 3)
+      do j = 1, size(a, 2)
+        i0 = nx + 1
+        do i = 1, nx
+          if (a(i, j, k) < lv) then
+            i0 = i
+            exit
+          end if
+        end do
+        if (i0 > nx) cycle
+        i1 = i0
+        do i = nx, i0 + 1, -1
+          if (a(i, j, k) < lv) then
+            i1 = i
+            exit
+          end if
+        end do
+        box(1, 1) = min(box(1, 1), i0)
+        box(2, 1) = max(box(2, 1), i1)
+        box(:, 2) = [min(box(1, 2), j), max(box(2, 2), j)]
+        box(:, 3) = [min(box(1, 3), k), max(box(2, 3), k)]
+      end do
+    end do
+  end function box_below
+
+  !> Whether every cell of a (a block's interior) beyond box is above level: the dry cells
+  !> beyond the box that the stage's passes keep up to date (the box grown by a reach: near)
+  !> may leave the others as they are only where the ghost fill's rest state replaces them
+  !> (m_gfm_cut's cut_open). (A cell of the halo is read as content only near a wet cell of the
+  !> block that reads it, and the box of the block it belongs to holds every cell within a
+  !> cell of one wet in its halo: m_gfm_cut_geometry.)
+  pure logical function above_beyond(box, a, level)
+    integer, intent(in) :: box(2, 3)
+    real(wp), intent(in) :: a(:, :, :), level
+    integer :: j, k, i0, i1
+    above_beyond = .false.
+    do k = 1, size(a, 3)
+      do j = 1, size(a, 2)
+        call box_row(box, j, k, i0, i1)
+        if (any(.not. a(:i0 - 1, j, k) > level)) return
+        if (any(.not. a(i1 + 1:, j, k) > level)) return
+      end do
+    end do
+    above_beyond = .true.
+  end function above_beyond
 
   !> box grown by reach cells along each direction, within a block of n cells (empty stays
   !> empty)
@@ -128,22 +152,20 @@ contains
   !> One variable's content c after a stage from the step start's c0 and the rate r (first:
   !> the first stage, c0 + dt r; else a c0 + (1 - a) (c + dt r)), and its copy u. Beyond the
   !> box (c0 and c zero, r +0) both are +0, which is what the sums give there: c everywhere,
-  !> u where near (near_cells; elsewhere u keeps the stage's input state).
+  !> u in the box near (the box grown by a reach; elsewhere u keeps the stage's input state).
   subroutine stage_content(first, a, dt, box, near, c0, r, c, u)
     logical, intent(in) :: first
     real(wp), intent(in) :: a, dt, c0(:, :, :), r(:, :, :)
-    integer, intent(in) :: box(2, 3)
-    logical, intent(in) :: near(:, :, :)
+    integer, intent(in) :: box(2, 3), near(2, 3)
     real(wp), intent(inout) :: c(:, :, :)
     real(wp), intent(inout) :: u(:, :, :)
-    integer :: i, j, k, i0, i1
+    integer :: i, j, k, i0, i1, n0, n1
     do k = 1, size(c, 3)
       do j = 1, size(c, 2)
         call box_row(box, j, k, i0, i1)
+        call box_row(near, j, k, n0, n1)
         c(:i0 - 1, j, k) = 0.0_wp
-        do i = 1, i0 - 1
-          if (near(i, j, k)) u(i, j, k) = 0.0_wp
-        end do
+        u(n0:min(n1, i0 - 1), j, k) = 0.0_wp
         if (first) then
           do i = i0, i1
             c(i, j, k) = c0(i, j, k) + dt * r(i, j, k)
@@ -156,37 +178,32 @@ contains
           end do
         end if
         c(i1 + 1:, j, k) = 0.0_wp
-        do i = i1 + 1, size(c, 1)
-          if (near(i, j, k)) u(i, j, k) = 0.0_wp
-        end do
+        u(max(n0, i1 + 1):n1, j, k) = 0.0_wp
       end do
     end do
   end subroutine stage_content
 
   !> One variable's states u of the full cells (kind 1: content c over fraction alpha) and
-  !> of the cells without material (kind 0: the step start's, u0, beyond the box where near);
-  !> the cut cells' (kind 2) are left. (Every cell of the box is written and no fraction but a
-  !> full cell's divides, so that the loop runs without branches; beyond the box every cell is
-  !> of kind 0.)
+  !> of the cells without material (kind 0: the step start's, u0, beyond the box where in the
+  !> box near); the cut cells' (kind 2) are left. (Every cell of the box is written and no
+  !> fraction but a full cell's divides, so that the loop runs without branches; beyond the
+  !> box every cell is of kind 0.)
   subroutine put_states(box, near, kind, alpha, c, u0, u)
-    integer, intent(in) :: box(2, 3), kind(:, :, :)
-    logical, intent(in) :: near(:, :, :)
+    integer, intent(in) :: box(2, 3), near(2, 3), kind(:, :, :)
     real(wp), intent(in) :: alpha(:, :, :), c(:, :, :), u0(:, :, :)
     real(wp), intent(inout) :: u(:, :, :)
-    integer :: i, j, k, i0, i1
-    do k = 1, size(u, 3)
-      do j = 1, size(u, 2)
+    integer :: i, j, k, i0, i1, n0, n1, rows(2, 3)
+    rows = box_union(box, near)
+    do k = rows(1, 3), rows(2, 3)
+      do j = rows(1, 2), rows(2, 2)
         call box_row(box, j, k, i0, i1)
-        do i = 1, i0 - 1
-          if (near(i, j, k)) u(i, j, k) = u0(i, j, k)
-        end do
+        call box_row(near, j, k, n0, n1)
+        u(n0:min(n1, i0 - 1), j, k) = u0(n0:min(n1, i0 - 1), j, k)
         do i = i0, i1
           u(i, j, k) = merge(c(i, j, k) / merge(alpha(i, j, k), 1.0_wp, kind(i, j, k) == 1), &
             merge(u0(i, j, k), u(i, j, k), kind(i, j, k) == 0), kind(i, j, k) == 1)
         end do
-        do i = i1 + 1, size(u, 1)
-          if (near(i, j, k)) u(i, j, k) = u0(i, j, k)
-        end do
+        u(max(n0, i1 + 1):n1, j, k) = u0(max(n0, i1 + 1):n1, j, k)
       end do
     end do
   end subroutine put_states

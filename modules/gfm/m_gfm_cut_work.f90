@@ -19,7 +19,6 @@ module m_gfm_cut_work
     real(wp), allocatable :: rho(:, :, :)         !< mass content over the padded block
     real(wp), allocatable :: filled(:, :, :)      !< the fractions the groups are formed by
     integer, allocatable :: root(:, :, :, :)      !< each cell's group root
-    logical, allocatable :: near(:, :, :)         !< the dry cells kept (m_gfm_cut_box)
     integer :: box(2, 3) = 0                      !< where the geometry's scratch is not zero
   end type cut_work_t
 

@@ -182,14 +182,16 @@ contains
 
   !> Halo boxes with no source block take the value of the nearest interior cell, where no
   !> side condition writes over them (boundary_apply: the side conditions follow).
-  subroutine clamp_fill(lay, blk, m1, nvar)
+  subroutine clamp_fill(lay, blk, m1, nvar, clamped)
     type(layout_t), intent(in) :: lay
     type(block_t), intent(inout) :: blk
     integer, intent(in) :: m1, nvar
+    logical, intent(out), optional :: clamped   !< some box was
     integer :: di, dj, dk, nbr, i, j, k, m, lo(3), hi(3), n(3), g(3), dmax(3)
     n = blk%n
     g = lay%ng
     dmax = merge(1, 0, g > 0)
+    if (present(clamped)) clamped = .false.
     do dk = -dmax(3), dmax(3)
       do dj = -dmax(2), dmax(2)
         do di = -dmax(1), dmax(1)
@@ -204,6 +206,7 @@ contains
           if (beyond_side([di, dj, dk])) cycle
           lo = merge(1 - g, merge(1, n + 1, [di, dj, dk] == 0), [di, dj, dk] < 0)
           hi = merge(0 * g, merge(n, n + g, [di, dj, dk] == 0), [di, dj, dk] < 0)
+          if (present(clamped)) clamped = .true.
           do concurrent (m = m1:nvar, k = lo(3):hi(3), j = lo(2):hi(2), i = lo(1):hi(1))
             blk%q(i, j, k, m) = blk%q(min(max(i, 1), n(1)), min(max(j, 1), n(2)), &
               min(max(k, 1), n(3)), m)
@@ -398,15 +401,65 @@ contains
     integer, intent(in) :: box(:, :, :)
     real(wp), intent(in) :: time
     logical, intent(in) :: skip(:)
-    logical :: touched(size(blocks)), changed(size(blocks))
-    integer :: b
+    integer :: touched(2, 3, size(blocks)), dirty(2, 3), b
     call halo_refresh_boxes(plan, blocks, box, ph%ils, 1, skip, touched)
     do b = 1, size(blocks)
-      changed(b) = all(box(1, :, b) <= box(2, :, b))
+      if (skip(b)) cycle
+      dirty = touched(:, :, b)
+      if (all(box(1, :, b) <= box(2, :, b))) then
+        dirty(1, :) = min(dirty(1, :), box(1, :, b))
+        dirty(2, :) = max(dirty(2, :), box(2, :, b))
+      end if
+      if (any(dirty(1, :) > dirty(2, :))) cycle
+      call refresh_sides(lay, bc, blocks(b), ph%ils, ph%nflow, ph%nphase, time, dirty)
     end do
-    call boundary_apply(lay, bc, blocks, ph%ils, ph%nflow, time, ph%nphase, &
-      chosen=(touched .or. changed) .and. .not. skip)
   end subroutine refresh_ghosts
+
+  !> The side conditions of block blk again, variables 1..nvar, after the cells in dirty
+  !> (padded coordinates: the interior cells it changed and the halo cells it took) changed:
+  !> a side is filled again where the cells its fill reads (face_fill: along its direction
+  !> the side's cell, or the ng cells that the mirror reflects, over the whole extent of the
+  !> others) meet what changed, and what it wrote counts as changed for the sides after it.
+  !> So the halos end as boundary_apply leaves them (which fills every side), at a fraction
+  !> of its work where the change lies away from the domain's sides.
+  subroutine refresh_sides(lay, bc, blk, nvar, nflow, np, time, dirty)
+    type(layout_t), intent(in) :: lay
+    type(bc_kind_t), intent(in) :: bc
+    type(block_t), intent(inout) :: blk
+    integer, intent(in) :: nvar, nflow, np
+    real(wp), intent(in) :: time
+    integer, intent(inout) :: dirty(2, 3)
+    integer :: d, s, kind, n, g, reads(2), writes(2)
+    real(wp) :: vwall
+    logical :: clamped
+    call clamp_fill(lay, blk, 1, nvar, clamped)
+    ! (a clamped box lies in the extent that every side's fill reads)
+    if (clamped) then
+      dirty(1, :) = 1 - blk%lay%ng
+      dirty(2, :) = blk%lay%bsize + blk%lay%ng
+    end if
+    do d = 1, lay%ndim
+      do s = -1, 1, 2
+        call side_condition(lay, bc, blk%id, d, s, time, kind, vwall)
+        if (kind == 0) cycle
+        n = blk%lay%bsize(d)
+        g = blk%lay%ng(d)
+        if (kind == bc_outflow) then
+          reads = merge(1, n, s < 0)
+        else if (s < 0) then
+          reads = [1, g]
+        else
+          reads = [n + 1 - g, n]
+        end if
+        if (dirty(1, d) > reads(2) .or. dirty(2, d) < reads(1)) cycle
+        call face_fill(blk%lay, blk%q, 1, nvar, nflow, np, d, s, kind, vwall, &
+          bc%linear_levelsets)
+        writes = merge([1 - g, 0], [n + 1, n + g], s < 0)
+        dirty(1, d) = min(dirty(1, d), writes(1))
+        dirty(2, d) = max(dirty(2, d), writes(2))
+      end do
+    end do
+  end subroutine refresh_sides
 
   !> The variables first..last of a set of fill_ghosts.
   pure subroutine ghost_variables(ph, set, first, last)

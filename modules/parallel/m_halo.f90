@@ -390,8 +390,8 @@ contains
   !> The local copies again where their source changed: box(:, :, b) holds the interior
   !> cells of block b that changed since the last exchange (low, high corner; empty when a
   !> low corner lies above its high one), and each local piece takes, variables first..nvar,
-  !> the part of its source box that lies in its source block's box; touched(b): block b took
-  !> some. The rest of every halo holds what it held, which the whole exchange would give it
+  !> the part of its source box that lies in its source block's box; touched(:, :, b): the
+  !> smallest box (over block b's padded cells) of what block b took (empty: none). The rest of every halo holds what it held, which the whole exchange would give it
   !> again; only pieces between blocks of this rank (the caller exchanges everything when
   !> any block takes a message). A block b with skip(b) set takes none.
   subroutine halo_refresh_boxes(plan, blocks, box, nvar, first, skip, touched)
@@ -400,9 +400,10 @@ contains
     integer, intent(in) :: box(:, :, :)
     integer, intent(in) :: nvar, first
     logical, intent(in) :: skip(:)
-    logical, intent(out) :: touched(:)
+    integer, intent(out) :: touched(:, :, :)
     integer :: c, a(3), z(3), s
-    touched = .false.
+    touched(1, :, :) = huge(1)
+    touched(2, :, :) = -huge(1)
     do c = 1, plan%ncopy
       associate (pc => plan%copy(c))
         if (skip(pc%local)) cycle
@@ -410,8 +411,10 @@ contains
         a = max(pc%slo, box(1, :, s))
         z = min(pc%slo + pc%hi - pc%lo, box(2, :, s))
         if (any(a > z)) cycle
-        touched(pc%local) = .true.
-        associate (dst => blocks(pc%local)%q, src => blocks(s)%q, o => pc%lo - pc%slo)
+        associate (dst => blocks(pc%local)%q, src => blocks(s)%q, o => pc%lo - pc%slo, &
+            t => touched(:, :, pc%local))
+          t(1, :) = min(t(1, :), a + o)
+          t(2, :) = max(t(2, :), z + o)
           dst(a(1)+o(1):z(1)+o(1), a(2)+o(2):z(2)+o(2), a(3)+o(3):z(3)+o(3), first:nvar) = &
             src(a(1):z(1), a(2):z(2), a(3):z(3), first:nvar)
         end associate
