@@ -204,9 +204,10 @@ contains
     integer, intent(out) :: cbox(2, 3)   !< the box of the cells that changed (empty: none)
     real(wp), allocatable :: given(:, :)   !< (variable, listed cell) its new content
     integer, allocatable :: at(:, :)       !< (3, listed cell) where it is
-    logical :: moving(blk%n(1), blk%n(2), blk%n(3))
-    real(wp) :: big(blk%n(1), blk%n(2), blk%n(3))   !< the largest magnitude a cell holds
-    integer :: e(3), n(3), i, j, k, lo, nf, l, m
+    logical, allocatable :: moving(:, :, :)   !< (over the box)
+    !> (over the box and a cell around it) full now and at the last step's end
+    logical, allocatable :: steady(:, :, :)
+    integer :: e(3), n(3), i, j, k, lo, nf, l, m, w(3), bl(3), bh(3)
     lo = ph%lo(p)
     nf = ph%nflow
     associate (lay => blk%lay, q => blk%q)
@@ -215,25 +216,30 @@ contains
       ! the cells whose content may change: nothing moves where the cell and its face
       ! neighbours were full and still are, nor out of an empty cell that holds nothing.
       ! Their new contents are made from q as it came, then put in (no copy of the block)
-      ! (whether a cell holds anything: its largest magnitude, variable by variable along
-      ! the rows, which vectorises where a logical or does not)
-      big = 0.0_wp
-      do m = lo, lo + nf - 1
-        do k = box(1, 3), box(2, 3)
-          do j = box(1, 2), box(2, 2)
-            do i = box(1, 1), box(2, 1)
-              big(i, j, k) = max(big(i, j, k), abs(q(i, j, k, m)))
-            end do
+      w = merge(1, 0, [1, 2, 3] <= lay%ndim)
+      bl = box(1, :)
+      bh = max(box(2, :), bl - 1)
+      allocate(steady(bl(1)-w(1):bh(1)+w(1), bl(2)-w(2):bh(2)+w(2), bl(3)-w(3):bh(3)+w(3)))
+      allocate(moving(bl(1):bh(1), bl(2):bh(2), bl(3):bh(3)))
+      do k = bl(3) - w(3), bh(3) + w(3)
+        do j = bl(2) - w(2), bh(2) + w(2)
+          do i = bl(1) - w(1), bh(1) + w(1)
+            steady(i, j, k) = alpha_e(i + e(1), j + e(2), k + e(3)) >= full .and. &
+              alpha_prev(i + e(1), j + e(2), k + e(3)) >= full
           end do
         end do
       end do
-      moving = .false.
-      do k = box(1, 3), box(2, 3)
-        do j = box(1, 2), box(2, 2)
-          do i = box(1, 1), box(2, 1)
-            moving(i, j, k) = .not. settled([i, j, k])
-            if (moving(i, j, k) .and. .not. alpha_at([i, j, k]) > 0.0_wp) &
-              moving(i, j, k) = big(i, j, k) > 0.0_wp
+      do k = bl(3), bh(3)
+        do j = bl(2), bh(2)
+          do i = bl(1), bh(1)
+            moving(i, j, k) = .not. (steady(i, j, k) &
+              .and. steady(i - w(1), j, k) .and. steady(i + w(1), j, k) &
+              .and. steady(i, j - w(2), k) .and. steady(i, j + w(2), k) &
+              .and. steady(i, j, k - w(3)) .and. steady(i, j, k + w(3)))
+            if (moving(i, j, k)) then
+              if (.not. alpha_e(i + e(1), j + e(2), k + e(3)) > 0.0_wp) &
+                moving(i, j, k) = any(abs(q(i, j, k, lo:lo + nf - 1)) > 0.0_wp)
+            end if
           end do
         end do
       end do
@@ -265,14 +271,13 @@ contains
       integer :: ii, jj, kk, d, s, nb(3), best(3), m, nr, recv(3, 26), r, nbs(3, 26), nl, l
       !> the cells within one cell of the block that have turned full since the last step's
       !> end: the only ones that give to (or take from) the cut cells around them
+      !> (over the box and a cell around it: the ring of a cell of the box)
       logical, allocatable :: filling(:, :, :)
       logical :: any_filling
-      integer :: w(3)
-      w = merge(1, 0, [1, 2, 3] <= blk%lay%ndim)
-      allocate(filling(1-w(1):n(1)+w(1), 1-w(2):n(2)+w(2), 1-w(3):n(3)+w(3)))
-      do kk = 1 - w(3), n(3) + w(3)
-        do jj = 1 - w(2), n(2) + w(2)
-          do ii = 1 - w(1), n(1) + w(1)
+      allocate(filling(bl(1)-w(1):bh(1)+w(1), bl(2)-w(2):bh(2)+w(2), bl(3)-w(3):bh(3)+w(3)))
+      do kk = bl(3) - w(3), bh(3) + w(3)
+        do jj = bl(2) - w(2), bh(2) + w(2)
+          do ii = bl(1) - w(1), bh(1) + w(1)
             filling(ii, jj, kk) = alpha_at([ii, jj, kk]) >= full .and. &
               .not. alpha_prev(ii + e(1), jj + e(2), kk + e(3)) >= full
           end do
@@ -280,9 +285,9 @@ contains
       end do
       any_filling = any(filling)
       m = 0
-      do kk = 1, n(3)
-        do jj = 1, n(2)
-          do ii = 1, n(1)
+      do kk = bl(3), bh(3)
+        do jj = bl(2), bh(2)
+          do ii = bl(1), bh(1)
             if (.not. moving(ii, jj, kk)) cycle
             m = m + 1
             at(:, m) = [ii, jj, kk]
@@ -351,24 +356,6 @@ contains
       integer, intent(in) :: c(3)
       alpha_at = alpha_e(c(1) + e(1), c(2) + e(2), c(3) + e(3))
     end function alpha_at
-
-    !> whether cell c and its face neighbours are full now and were at the last step's end
-    logical function settled(c)
-      integer, intent(in) :: c(3)
-      integer :: dd, ss, m(3)
-      settled = .false.
-      if (.not. (alpha_at(c) >= full .and. &
-        alpha_prev(c(1) + e(1), c(2) + e(2), c(3) + e(3)) >= full)) return
-      do dd = 1, blk%lay%ndim
-        do ss = -1, 1, 2
-          m = c
-          m(dd) = m(dd) + ss
-          if (.not. (alpha_at(m) >= full .and. &
-            alpha_prev(m(1) + e(1), m(2) + e(2), m(3) + e(3)) >= full)) return
-        end do
-      end do
-      settled = .true.
-    end function settled
 
     !> For a cell c that has turned full since the last step: the content it gives to each
     !> of its nr cut neighbours recv (exj, per c's volume; negative where it takes). It gives
