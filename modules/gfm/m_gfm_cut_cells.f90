@@ -217,8 +217,13 @@ contains
       ! neighbours were full and still are, nor out of an empty cell that holds nothing.
       ! Their new contents are made from q as it came, then put in (no copy of the block)
       w = merge(1, 0, [1, 2, 3] <= lay%ndim)
+      ! (an empty box, of whatever corners, as 1..0)
       bl = box(1, :)
-      bh = max(box(2, :), bl - 1)
+      bh = box(2, :)
+      if (any(bl > bh)) then
+        bl = 1
+        bh = 0
+      end if
       allocate(steady(bl(1)-w(1):bh(1)+w(1), bl(2)-w(2):bh(2)+w(2), bl(3)-w(3):bh(3)+w(3)))
       allocate(moving(bl(1):bh(1), bl(2):bh(2), bl(3):bh(3)))
       do k = bl(3) - w(3), bh(3) + w(3)
