@@ -19,20 +19,34 @@ module m_checkpoint
   !> the version of the checkpoint layout this code writes and reads; a checkpoint without
   !> the attribute was written before it existed (version 0, read the same way)
   integer, parameter :: checkpoint_version = 1
-  !> the cut-cell update's fractions at the step's end (m_gfm_cut alpha_n)
-  character(len=*), parameter :: fractions_name = '/cut/alpha_n'
   !> which per-variable fields block_fields moves: the state's variables, or the cut-cell
   !> phase's content
   integer, parameter :: state_fields = 1, content_fields = 2
 
 contains
 
-  !> Name of the cut-cell phase's content variable m in a checkpoint: /cut/c<m>.
-  pure function content_names(m) result(name)
-    integer, intent(in) :: m
+  !> The prefix of cut phase k's fields and attributes in a checkpoint: cut for the first,
+  !> cut<k> for each after it (m_gfm_cut's cut_setup: one for each cut phase).
+  pure function cut_prefix(k) result(pre)
+    integer, intent(in) :: k
+    character(len=16) :: pre
+    pre = 'cut'
+    if (k > 1) write(pre, '(a,i0)') 'cut', k
+  end function cut_prefix
+
+  !> Name of cut phase k's content variable m in a checkpoint: /cut/c<m> (/cut<k>/c<m>).
+  pure function content_names(k, m) result(name)
+    integer, intent(in) :: k, m
     character(len=name_len) :: name
-    write(name, '(a,i0)') '/cut/c', m
+    write(name, '(a,i0)') '/' // trim(cut_prefix(k)) // '/c', m
   end function content_names
+
+  !> Name of cut phase k's fractions at the step's end (m_gfm_cut alpha_n): /cut/alpha_n.
+  pure function fractions_name(k) result(name)
+    integer, intent(in) :: k
+    character(len=name_len) :: name
+    name = '/' // trim(cut_prefix(k)) // '/alpha_n'
+  end function fractions_name
 
   !> Name of state variable m in a checkpoint: /state/q<m> (flow variables, then level sets).
   pure function state_names(m) result(name)
@@ -47,7 +61,8 @@ contains
     character(len=*), intent(in) :: deck_text
     type(h5_file_t) :: f
     real(wp), allocatable :: data(:, :, :, :)
-    integer :: b, n(3)
+    integer :: b, n(3), k
+    character(len=16) :: pre
     call h5_create(f, step_file_name(sim, 'chk', sim%clk%step, '.h5'), sim%lay)
     call h5_write_attr(f, 'time', sim%clk%time)
     call h5_write_attr(f, 'step', sim%clk%step)
@@ -69,24 +84,28 @@ contains
     call block_fields(f, sim, state_fields, .true.)
     ! the hot-spot peaks so far (run.json's summary covers the whole run)
     if (sim%hot%on) call h5_write_attr(f, 'hotspots', hot_pack(sim%hot))
-    if (sim%cut%on) then
-      ! the cut-cell phase's content (its states do not give it back: a cut cell's state
-      ! has the density of the material beside it) and its budget so far (m_gfm_cut)
-      call h5_write_attr(f, 'cut_stranded', sim%cut%stranded)
-      call h5_write_attr(f, 'cut_crossed', sim%cut%crossed)
-      call h5_write_attr(f, 'cut_closing', sim%cut%closing)
-      call h5_write_attr(f, 'cut_held', sim%cut%held)
-      call block_fields(f, sim, content_fields, .true.)
-      ! the fractions the states were formed at (the void's level set has followed the
-      ! content since: cut_follow), which the next step's exchange of filled cells compares
-      ! with (cut_donate)
-      data = field_buffer(sim)
-      do b = 1, size(sim%blocks)
-        n = sim%blocks(b)%n
-        data(1:n(1), 1:n(2), 1:n(3), b) = sim%cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b)
-      end do
-      call h5_write_field(f, fractions_name, sim%lay, block_ids(sim), data)
-    end if
+    do k = 1, size(sim%cut)
+      if (.not. sim%cut(k)%on) exit
+      pre = cut_prefix(k)
+      associate (cut => sim%cut(k))
+        ! each cut phase's content (its states do not give it back: a cut cell's state
+        ! has the density of the material beside it) and its budget so far (m_gfm_cut)
+        call h5_write_attr(f, trim(pre) // '_stranded', cut%stranded)
+        call h5_write_attr(f, trim(pre) // '_crossed', cut%crossed)
+        call h5_write_attr(f, trim(pre) // '_closing', cut%closing)
+        call h5_write_attr(f, trim(pre) // '_held', cut%held)
+        call block_fields(f, sim, content_fields, .true., k)
+        ! the fractions the states were formed at (the void's level set has followed the
+        ! content since: cut_follow), which the next step's exchange of filled cells
+        ! compares with (cut_donate)
+        data = field_buffer(sim)
+        do b = 1, size(sim%blocks)
+          n = sim%blocks(b)%n
+          data(1:n(1), 1:n(2), 1:n(3), b) = cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b)
+        end do
+        call h5_write_field(f, trim(fractions_name(k)), sim%lay, block_ids(sim), data)
+      end associate
+    end do
     call h5_write_text(f, '/deck', deck_text)
     call h5_close(f)
     call log_line('checkpoint ' // trim(step_file_name(sim, 'chk', sim%clk%step, '.h5')))
@@ -168,6 +187,8 @@ contains
     type(h5_file_t) :: f
     real(wp), allocatable :: fix(:), hot(:)
     logical :: ok
+    integer :: k
+    character(len=16) :: pre
     ! that the file is a checkpoint for this grid and state was checked before anything was
     ! written (output_restart_check)
     call h5_open_read(f, path)
@@ -207,25 +228,31 @@ contains
         // 'this scene (written before them, or with other voids): run.json summarises from ' &
         // 'the restart on')
     end if
-    sim%cut%restored = .false.
-    sim%cut%restored_fractions = .false.
-    if (sim%cut%on) then
-      if (h5_exists(f, trim(content_names(1)))) then
-        call h5_read_attr(f, 'cut_stranded', sim%cut%stranded)
-        call h5_read_attr(f, 'cut_crossed', sim%cut%crossed)
-        ! (a checkpoint written before the closing exchange counts from the restart on)
-        sim%cut%closing = 0.0_wp
-        if (h5_has_attr(f, 'cut_closing')) call h5_read_attr(f, 'cut_closing', sim%cut%closing)
-        sim%cut%held = 0.0_wp
-        if (h5_has_attr(f, 'cut_held')) call h5_read_attr(f, 'cut_held', sim%cut%held)
-        call block_fields(f, sim, content_fields, .false.)
-        sim%cut%restored = .true.
-        if (h5_exists(f, fractions_name)) call restore_fractions()
-      else
-        call log_line('restart: ' // trim(path) // ' holds no cut-cell content (written ' // &
-          'without conserve = ''cut_cell''): it is taken from the states')
-      end if
-    end if
+    do k = 1, size(sim%cut)
+      sim%cut(k)%restored = .false.
+      sim%cut(k)%restored_fractions = .false.
+      if (.not. sim%cut(k)%on) cycle
+      pre = cut_prefix(k)
+      associate (cut => sim%cut(k))
+        if (h5_exists(f, trim(content_names(k, 1)))) then
+          call h5_read_attr(f, trim(pre) // '_stranded', cut%stranded)
+          call h5_read_attr(f, trim(pre) // '_crossed', cut%crossed)
+          ! (a checkpoint written before the closing exchange counts from the restart on)
+          cut%closing = 0.0_wp
+          if (h5_has_attr(f, trim(pre) // '_closing')) call h5_read_attr(f, trim(pre) // '_closing', &
+            cut%closing)
+          cut%held = 0.0_wp
+          if (h5_has_attr(f, trim(pre) // '_held')) call h5_read_attr(f, trim(pre) // '_held', cut%held)
+          call block_fields(f, sim, content_fields, .false., k)
+          cut%restored = .true.
+          if (h5_exists(f, trim(fractions_name(k)))) call restore_fractions(k)
+        else
+          call log_line('restart: ' // trim(path) // ' holds no cut-cell content of phase ' &
+            // trim(sim%ph%material(cut%p)) // ' (written without conserve = ''cut_cell''): ' &
+            // 'it is taken from the states')
+        end if
+      end associate
+    end do
     call h5_close(f)
     sim%clk%restart_step = sim%clk%step
 
@@ -235,34 +262,38 @@ contains
     !> neighbours its exchange of filled cells looks at (e cells into the halo, read from the
     !> file rather than exchanged); beyond the domain's sides -1, which the first step
     !> replaces by the fractions of the level set there (m_gfm_stage).
-    subroutine restore_fractions()
+    subroutine restore_fractions(k)
+      integer, intent(in) :: k
       real(wp), allocatable :: ext(:, :, :, :)
       integer :: e(3), b, n(3)
       e = max(sim%lay%ng - 1, 0)
       allocate(ext(1-e(1):sim%lay%nmax(1)+e(1), 1-e(2):sim%lay%nmax(2)+e(2), &
         1-e(3):sim%lay%nmax(3)+e(3), size(sim%blocks)))
       ext = -1.0_wp
-      call h5_read_field_halo(f, fractions_name, sim%lay, block_ids(sim), e, ext)
-      do b = 1, size(sim%blocks)
-        n = sim%blocks(b)%n
-        sim%cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = ext(1:n(1), 1:n(2), 1:n(3), b)
-        if (allocated(sim%cut%ext_n(b)%a)) deallocate(sim%cut%ext_n(b)%a)
-        allocate(sim%cut%ext_n(b)%a(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
-        sim%cut%ext_n(b)%a = ext(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3), b)
-      end do
-      sim%cut%restored_fractions = .true.
+      call h5_read_field_halo(f, trim(fractions_name(k)), sim%lay, block_ids(sim), e, ext)
+      associate (cut => sim%cut(k))
+        do b = 1, size(sim%blocks)
+          n = sim%blocks(b)%n
+          cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = ext(1:n(1), 1:n(2), 1:n(3), b)
+          if (allocated(cut%ext_n(b)%a)) deallocate(cut%ext_n(b)%a)
+          allocate(cut%ext_n(b)%a(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3)))
+          cut%ext_n(b)%a = ext(1-e(1):n(1)+e(1), 1-e(2):n(2)+e(2), 1-e(3):n(3)+e(3), b)
+        end do
+        cut%restored_fractions = .true.
+      end associate
     end subroutine restore_fractions
   end subroutine output_restart
 
   !> The fields `which` (state_fields: /state/q<m>, one per state variable; content_fields:
-  !> /cut/c<m>, one per flow variable of the cut-cell phase) between this rank's blocks and
+  !> /cut/c<m>, one per flow variable of cut phase k) between this rank's blocks and
   !> checkpoint f: written when `writing`, else read. One list of the fields for the writer
   !> and the reader, so that they keep the same layout.
-  subroutine block_fields(f, sim, which, writing)
+  subroutine block_fields(f, sim, which, writing, k)
     type(h5_file_t), intent(in) :: f
     type(sim_t), intent(inout), target :: sim
     integer, intent(in) :: which
     logical, intent(in) :: writing
+    integer, intent(in), optional :: k   !< the cut phase (content_fields)
     real(wp), allocatable :: data(:, :, :, :)
     real(wp), pointer :: cells(:, :, :)
     integer, allocatable :: ids(:)
@@ -272,12 +303,16 @@ contains
     ids = block_ids(sim)
     nfields = merge(sim%ph%nflow, sim%ph%nvar, which == content_fields)
     do m = 1, nfields
-      name = merge(content_names(m), state_names(m), which == content_fields)
+      if (which == content_fields) then
+        name = content_names(k, m)
+      else
+        name = state_names(m)
+      end if
       if (.not. writing) call h5_read_field(f, trim(name), sim%lay, ids, data)
       do b = 1, size(sim%blocks)
         n = sim%blocks(b)%n
         if (which == content_fields) then
-          cells => sim%cut%c0(1:n(1), 1:n(2), 1:n(3), m, b)
+          cells => sim%cut(k)%c0(1:n(1), 1:n(2), 1:n(3), m, b)
         else
           cells => sim%blocks(b)%q(1:n(1), 1:n(2), 1:n(3), m)
         end if

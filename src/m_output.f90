@@ -21,7 +21,7 @@ module m_output
     hot_nearest, hot_wants
   use m_kinds, only: i8, line_len
   use m_errors, only: stop_collective, error_line
-  use m_text, only: base_name, normal_path, dir_name, replaced
+  use m_text, only: base_name, normal_path, dir_name, replaced, int_text
   use m_deck, only: deck_write_resolved
   implicit none
   private
@@ -194,7 +194,11 @@ contains
     character(len=name_len), allocatable :: cols(:)
     character(len=4), parameter :: item(8) = [character(len=4) :: 'mass', 'vol', 'xmin', &
       'xmax', 'ymin', 'ymax', 'zmin', 'zmax']
-    integer :: l, k
+    character(len=*), parameter :: cut_item(12) = [character(len=16) :: 'mass', 'energy', &
+      'volume', 'in_mass', 'in_energy', 'stranded_mass', 'stranded_energy', 'content_volume', &
+      'closing_cells', 'closing_heat', 'held_cells', 'excess_max']
+    integer :: l, k, c
+    character(len=16) :: pre
     cols = [character(len=name_len) :: 'step', 'time', 'dt', 'mass', 'mom_x', 'mom_y', &
       'mom_z', 'kinetic', 'internal', 'total_energy', 'max_p', 'max_T', 'max_eps_p', &
       'fallback_faces', 'first_order_steps', 'first_order_cells']
@@ -203,10 +207,15 @@ contains
     ! the cut-cell phase's budget (m_gfm_cut): content, what came in through the sides,
     ! what found no cell, the volume its level set encloses and the volume its content
     ! fills at the density of its states (their difference is the drift, theory.md 7c)
-    if (sim%cut%on) cols = [character(len=name_len) :: cols, 'cut_mass', 'cut_energy', &
-      'cut_volume', 'cut_in_mass', 'cut_in_energy', 'cut_stranded_mass', &
-      'cut_stranded_energy', 'cut_content_volume', 'cut_closing_cells', 'cut_closing_heat', &
-      'cut_held_cells', 'cut_excess_max']
+    ! (one set per cut phase: cut_ for the first, cut<k>_ for cut phase k after it)
+    if (sim%cut(1)%on) then
+      do c = 1, size(sim%cut)
+        pre = 'cut'
+        if (c > 1) pre = 'cut' // int_text(c)
+        cols = [character(len=name_len) :: cols, (trim(pre) // '_' // trim(cut_item(k)), &
+          k = 1, size(cut_item))]
+      end do
+    end if
     ! the mass burnt, sum rho lambda V over the real cells (reaction, m_reaction)
     if (sim%ph%has_reaction) cols = [character(len=name_len) :: cols, 'burnt_mass']
     do l = 1, sim%ls%n
@@ -224,9 +233,9 @@ contains
   function history_values(sim) result(v)
     type(sim_t), intent(inout) :: sim
     real(wp), allocatable :: v(:)
-    real(wp) :: tot(9), pmax, tmax, epmax, cut_tot(8), xmax, x
-    real(wp), allocatable :: sums(:)
-    integer :: b, l, nb, ph, nsum
+    real(wp) :: tot(9), pmax, tmax, epmax, cut_tot(8), x
+    real(wp), allocatable :: sums(:), xmax(:)
+    integer :: b, l, nb, ph, nsum, nc, c, r
     real(wp), allocatable :: body(:, :), part(:, :)
     logical :: has_t(sim%ph%nphase)
     do ph = 1, sim%ph%nphase
@@ -236,8 +245,11 @@ contains
     tmax = -huge(1.0_wp)
     epmax = 0.0_wp
     ! block by block, then over the block ids: the same sums however the blocks are owned
-    nsum = merge(12, 11, sim%ph%has_reaction)
-    allocate(part(nsum, size(sim%blocks)))
+    ! (rows: the totals, 4 for each cut phase (at least one set), the mass burnt)
+    nc = size(sim%cut)
+    r = 8 + 4 * nc
+    nsum = merge(r, r - 1, sim%ph%has_reaction)
+    allocate(part(nsum, size(sim%blocks)), xmax(nc))
     part = 0.0_wp
     call hot_row_start(sim%hot)
     xmax = 0.0_wp
@@ -245,11 +257,13 @@ contains
       tot = 0.0_wp
       call block_totals(sim, b, has_t, tot, pmax, tmax, epmax, sim%hot)
       part(1:7, b) = tot(1:7)
-      if (sim%cut%on) then
-        call cut_content(sim%cut, b, sim%blocks(b), sim%ph%lo(sim%cut%p), part(8:11, b), x)
-        xmax = max(xmax, x)
-      end if
-      if (sim%ph%has_reaction) part(12, b) = tot(9)
+      do c = 1, nc
+        if (.not. sim%cut(c)%on) cycle
+        call cut_content(sim%cut(c), b, sim%blocks(b), sim%ph%lo(sim%cut(c)%p), &
+          part(4 + 4 * c:7 + 4 * c, b), x)
+        xmax(c) = max(xmax(c), x)
+      end do
+      if (sim%ph%has_reaction) part(r, b) = tot(9)
     end do
     sums = comm_sum_by_key(part, [(sim%blocks(b)%id, b = 1, size(sim%blocks))], &
       sim%lay%nblocks)
@@ -260,14 +274,15 @@ contains
     v = [sim%clk%time, sim%clk%dt, tot(1:7), comm_max(pmax), tmax, comm_max(epmax), tot(8), &
       real(sim%diag%first_order_steps, wp), real(comm_sum(sim%diag%cells_low), wp)]
     if (sim%fix%on) v = [v, sim%fix%measure, sum(sim%fix%taken, dim=2), sum(sim%fix%content, dim=2)]
-    if (sim%cut%on) then
-      cut_tot(4:5) = sim%cut%crossed
-      cut_tot(6:7) = sim%cut%stranded
-      cut_tot(1:3) = sums(8:10)
-      cut_tot(8) = sums(11)
-      v = [v, cut_tot, sim%cut%closing, sim%cut%held, comm_max(xmax)]
-    end if
-    if (sim%ph%has_reaction) v = [v, sums(12)]
+    do c = 1, nc
+      if (.not. sim%cut(c)%on) cycle
+      cut_tot(4:5) = sim%cut(c)%crossed
+      cut_tot(6:7) = sim%cut(c)%stranded
+      cut_tot(1:3) = sums(4 + 4 * c:6 + 4 * c)
+      cut_tot(8) = sums(7 + 4 * c)
+      v = [v, cut_tot, sim%cut(c)%closing, sim%cut(c)%held, comm_max(xmax(c))]
+    end do
+    if (sim%ph%has_reaction) v = [v, sums(r)]
     nb = 0
     if (sim%ls%n > 0) nb = count(sim%ls%kind == ls_material)
     allocate(body(8, nb))

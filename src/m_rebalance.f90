@@ -39,12 +39,15 @@ module m_rebalance
 
   !> A block of this rank taken out of sim while the blocks are redistributed, with its
   !> per-block parts.
-  type :: held_t
-    type(block_t) :: blk
-    logical :: dormant = .false.
+  type :: held_cut_t   !< one cut phase's parts of a held block (m_gfm_cut's cut_t)
     real(wp), allocatable :: c(:, :, :, :), c0(:, :, :, :), alpha_n(:, :, :)
     type(cut_faces_t) :: faces
     real(wp), allocatable :: ext(:, :, :), ext_n(:, :, :)
+  end type held_cut_t
+  type :: held_t
+    type(block_t) :: blk
+    logical :: dormant = .false.
+    type(held_cut_t), allocatable :: cut(:)   !< (cut phase)
   end type held_t
 
 contains
@@ -190,7 +193,7 @@ contains
   subroutine hold_blocks(sim, old)
     type(sim_t), intent(inout) :: sim
     type(held_t), allocatable, intent(out) :: old(:)
-    integer :: b
+    integer :: b, k
     allocate(old(size(sim%blocks)))
     do b = 1, size(sim%blocks)
       call move_alloc(sim%blocks(b)%q, old(b)%blk%q)
@@ -198,18 +201,23 @@ contains
       call move_alloc(sim%blocks(b)%rhs, old(b)%blk%rhs)
       old(b)%blk%id = sim%blocks(b)%id
       old(b)%dormant = sim%gf%dormant(b)
-      if (.not. sim%cut%on) cycle
-      old(b)%c = sim%cut%c(:, :, :, :, b)
-      old(b)%c0 = sim%cut%c0(:, :, :, :, b)
-      old(b)%alpha_n = sim%cut%alpha_n(:, :, :, b)
-      call move_alloc(sim%cut%faces(b)%ax, old(b)%faces%ax)
-      call move_alloc(sim%cut%faces(b)%ay, old(b)%faces%ay)
-      call move_alloc(sim%cut%faces(b)%az, old(b)%faces%az)
-      call move_alloc(sim%cut%faces(b)%alpha, old(b)%faces%alpha)
-      call move_alloc(sim%cut%faces(b)%plane, old(b)%faces%plane)
-      call move_alloc(sim%cut%faces(b)%partial, old(b)%faces%partial)
-      call move_alloc(sim%cut%ext(b)%a, old(b)%ext)
-      call move_alloc(sim%cut%ext_n(b)%a, old(b)%ext_n)
+      if (.not. sim%cut(1)%on) cycle
+      allocate(old(b)%cut(size(sim%cut)))
+      do k = 1, size(sim%cut)
+        associate (h => old(b)%cut(k), cut => sim%cut(k))
+          h%c = cut%c(:, :, :, :, b)
+          h%c0 = cut%c0(:, :, :, :, b)
+          h%alpha_n = cut%alpha_n(:, :, :, b)
+          call move_alloc(cut%faces(b)%ax, h%faces%ax)
+          call move_alloc(cut%faces(b)%ay, h%faces%ay)
+          call move_alloc(cut%faces(b)%az, h%faces%az)
+          call move_alloc(cut%faces(b)%alpha, h%faces%alpha)
+          call move_alloc(cut%faces(b)%plane, h%faces%plane)
+          call move_alloc(cut%faces(b)%partial, h%faces%partial)
+          call move_alloc(cut%ext(b)%a, h%ext)
+          call move_alloc(cut%ext_n(b)%a, h%ext_n)
+        end associate
+      end do
     end do
     deallocate(sim%blocks)
   end subroutine hold_blocks
@@ -219,24 +227,26 @@ contains
   !> accumulators of the block work.
   subroutine size_parts(sim)
     type(sim_t), intent(inout) :: sim
-    integer :: nb, n(3)
+    integer :: nb, n(3), k
     nb = size(sim%blocks)
     deallocate(sim%gf%dormant)
     allocate(sim%gf%dormant(nb))
     sim%gf%dormant = .false.
-    if (sim%cut%on) then
-      n = sim%lay%nmax
-      deallocate(sim%cut%c, sim%cut%c0, sim%cut%alpha_n, sim%cut%faces, sim%cut%ext, &
-        sim%cut%ext_n)
-      allocate(sim%cut%c(n(1), n(2), n(3), sim%ph%nflow, nb), sim%cut%faces(nb), &
-        sim%cut%ext(nb), sim%cut%ext_n(nb))
-      allocate(sim%cut%c0, mold=sim%cut%c)
-      allocate(sim%cut%alpha_n(n(1), n(2), n(3), nb))
-      sim%cut%c = 0.0_wp
-      sim%cut%c0 = 0.0_wp
-      sim%cut%alpha_n = 0.0_wp
-      call cut_boxes(sim%cut, nb)
-    end if
+    do k = 1, size(sim%cut)
+      if (.not. sim%cut(k)%on) cycle
+      associate (cut => sim%cut(k))
+        n = sim%lay%nmax
+        deallocate(cut%c, cut%c0, cut%alpha_n, cut%faces, cut%ext, cut%ext_n)
+        allocate(cut%c(n(1), n(2), n(3), sim%ph%nflow, nb), cut%faces(nb), cut%ext(nb), &
+          cut%ext_n(nb))
+        allocate(cut%c0, mold=cut%c)
+        allocate(cut%alpha_n(n(1), n(2), n(3), nb))
+        cut%c = 0.0_wp
+        cut%c0 = 0.0_wp
+        cut%alpha_n = 0.0_wp
+        call cut_boxes(cut, nb)
+      end associate
+    end do
     if (allocated(sim%fix%bflux)) then
       n(1:2) = shape(sim%fix%bflux(:, :, 1, 1))
       deallocate(sim%fix%bflux)
@@ -251,22 +261,27 @@ contains
     type(sim_t), intent(inout) :: sim
     integer, intent(in) :: b
     type(held_t), intent(inout) :: h
+    integer :: k
     call move_alloc(h%blk%q, sim%blocks(b)%q)
     call move_alloc(h%blk%q0, sim%blocks(b)%q0)
     call move_alloc(h%blk%rhs, sim%blocks(b)%rhs)
     sim%gf%dormant(b) = h%dormant
-    if (.not. sim%cut%on) return
-    sim%cut%c(:, :, :, :, b) = h%c
-    sim%cut%c0(:, :, :, :, b) = h%c0
-    sim%cut%alpha_n(:, :, :, b) = h%alpha_n
-    call move_alloc(h%faces%ax, sim%cut%faces(b)%ax)
-    call move_alloc(h%faces%ay, sim%cut%faces(b)%ay)
-    call move_alloc(h%faces%az, sim%cut%faces(b)%az)
-    call move_alloc(h%faces%alpha, sim%cut%faces(b)%alpha)
-    call move_alloc(h%faces%plane, sim%cut%faces(b)%plane)
-    call move_alloc(h%faces%partial, sim%cut%faces(b)%partial)
-    call move_alloc(h%ext, sim%cut%ext(b)%a)
-    call move_alloc(h%ext_n, sim%cut%ext_n(b)%a)
+    if (.not. sim%cut(1)%on) return
+    do k = 1, size(sim%cut)
+      associate (hc => h%cut(k), cut => sim%cut(k))
+        cut%c(:, :, :, :, b) = hc%c
+        cut%c0(:, :, :, :, b) = hc%c0
+        cut%alpha_n(:, :, :, b) = hc%alpha_n
+        call move_alloc(hc%faces%ax, cut%faces(b)%ax)
+        call move_alloc(hc%faces%ay, cut%faces(b)%ay)
+        call move_alloc(hc%faces%az, cut%faces(b)%az)
+        call move_alloc(hc%faces%alpha, cut%faces(b)%alpha)
+        call move_alloc(hc%faces%plane, cut%faces(b)%plane)
+        call move_alloc(hc%faces%partial, cut%faces(b)%partial)
+        call move_alloc(hc%ext, cut%ext(b)%a)
+        call move_alloc(hc%ext_n, cut%ext_n(b)%a)
+      end associate
+    end do
   end subroutine restore_block
 
   !> The longest message: one block of the largest extent with everything it carries (a
@@ -277,8 +292,8 @@ contains
     ni = product(sim%lay%nmax)
     npad = product(sim%lay%nmax + 2 * sim%lay%ng)
     c = 1 + sim%ph%nvar * (npad + 2 * ni)
-    if (sim%cut%on) c = c + (2 * sim%ph%nflow + 1) * ni &
-      + 8 * (7 + product(sim%lay%nmax + 2 * sim%lay%ng + 1))
+    if (sim%cut(1)%on) c = c + size(sim%cut) * ((2 * sim%ph%nflow + 1) * ni &
+      + 8 * (7 + product(sim%lay%nmax + 2 * sim%lay%ng + 1)))
   end function message_capacity
 
   !> The held block h into buf(1:len): the dormant flag, q (with its halo), q0, rhs, and the
@@ -289,28 +304,34 @@ contains
     type(held_t), intent(in) :: h
     real(wp), intent(out) :: buf(:)
     integer, intent(out) :: len
+    integer :: k
     len = 0
     call put([merge(1.0_wp, 0.0_wp, h%dormant)])
     call put(reshape(h%blk%q, [size(h%blk%q)]))
     call put(reshape(h%blk%q0, [size(h%blk%q0)]))
     call put(reshape(h%blk%rhs, [size(h%blk%rhs)]))
-    if (.not. sim%cut%on) return
-    call put(reshape(h%c, [size(h%c)]))
-    call put(reshape(h%c0, [size(h%c0)]))
-    call put(reshape(h%alpha_n, [size(h%alpha_n)]))
-    call put_array(h%faces%ax)
-    call put_array(h%faces%ay)
-    call put_array(h%faces%az)
-    call put_array(h%faces%alpha)
-    call put_array(h%faces%plane)
-    call put_array(h%ext)
-    call put_array(h%ext_n)
-    if (allocated(h%faces%partial)) then
-      call put([1.0_wp, real(lbound(h%faces%partial), wp), real(ubound(h%faces%partial), wp)])
-      call put(reshape(merge(1.0_wp, 0.0_wp, h%faces%partial), [size(h%faces%partial)]))
-    else
-      call put([0.0_wp])
-    end if
+    if (.not. sim%cut(1)%on) return
+    do k = 1, size(sim%cut)
+      associate (hc => h%cut(k))
+        call put(reshape(hc%c, [size(hc%c)]))
+        call put(reshape(hc%c0, [size(hc%c0)]))
+        call put(reshape(hc%alpha_n, [size(hc%alpha_n)]))
+        call put_array(hc%faces%ax)
+        call put_array(hc%faces%ay)
+        call put_array(hc%faces%az)
+        call put_array(hc%faces%alpha)
+        call put_array(hc%faces%plane)
+        call put_array(hc%ext)
+        call put_array(hc%ext_n)
+        if (allocated(hc%faces%partial)) then
+          call put([1.0_wp, real(lbound(hc%faces%partial), wp), &
+            real(ubound(hc%faces%partial), wp)])
+          call put(reshape(merge(1.0_wp, 0.0_wp, hc%faces%partial), [size(hc%faces%partial)]))
+        else
+          call put([0.0_wp])
+        end if
+      end associate
+    end do
 
   contains
 
@@ -337,7 +358,7 @@ contains
     type(sim_t), intent(inout) :: sim
     integer, intent(in) :: b
     real(wp), intent(in) :: buf(:)
-    integer :: pos
+    integer :: pos, k
     real(wp), allocatable :: mask(:, :, :)   !< the cut faces' partial flags, as 0 / 1
     pos = 0
     associate (blk => sim%blocks(b))
@@ -347,27 +368,31 @@ contains
       blk%q0 = reshape(take(size(blk%q0)), shape(blk%q0))
       blk%rhs = reshape(take(size(blk%rhs)), shape(blk%rhs))
     end associate
-    if (.not. sim%cut%on) return
-    associate (c => sim%cut%c(:, :, :, :, b), c0 => sim%cut%c0(:, :, :, :, b), &
-        a => sim%cut%alpha_n(:, :, :, b))
-      c = reshape(take(size(c)), shape(c))
-      c0 = reshape(take(size(c0)), shape(c0))
-      a = reshape(take(size(a)), shape(a))
-    end associate
-    call take_array(sim%cut%faces(b)%ax)
-    call take_array(sim%cut%faces(b)%ay)
-    call take_array(sim%cut%faces(b)%az)
-    call take_array(sim%cut%faces(b)%alpha)
-    call take_array(sim%cut%faces(b)%plane)
-    call take_array(sim%cut%ext(b)%a)
-    call take_array(sim%cut%ext_n(b)%a)
-    call take_array(mask)
-    if (allocated(sim%cut%faces(b)%partial)) deallocate(sim%cut%faces(b)%partial)
-    if (allocated(mask)) then
-      allocate(sim%cut%faces(b)%partial(lbound(mask, 1):ubound(mask, 1), &
-        lbound(mask, 2):ubound(mask, 2), lbound(mask, 3):ubound(mask, 3)))
-      sim%cut%faces(b)%partial = mask > 0.5_wp
-    end if
+    if (.not. sim%cut(1)%on) return
+    do k = 1, size(sim%cut)
+      associate (cut => sim%cut(k))
+        cut%c(:, :, :, :, b) = reshape(take(size(cut%c(:, :, :, :, b))), &
+          shape(cut%c(:, :, :, :, b)))
+        cut%c0(:, :, :, :, b) = reshape(take(size(cut%c0(:, :, :, :, b))), &
+          shape(cut%c0(:, :, :, :, b)))
+        cut%alpha_n(:, :, :, b) = reshape(take(size(cut%alpha_n(:, :, :, b))), &
+          shape(cut%alpha_n(:, :, :, b)))
+        call take_array(cut%faces(b)%ax)
+        call take_array(cut%faces(b)%ay)
+        call take_array(cut%faces(b)%az)
+        call take_array(cut%faces(b)%alpha)
+        call take_array(cut%faces(b)%plane)
+        call take_array(cut%ext(b)%a)
+        call take_array(cut%ext_n(b)%a)
+        call take_array(mask)
+        if (allocated(cut%faces(b)%partial)) deallocate(cut%faces(b)%partial)
+        if (allocated(mask)) then
+          allocate(cut%faces(b)%partial(lbound(mask, 1):ubound(mask, 1), &
+            lbound(mask, 2):ubound(mask, 2), lbound(mask, 3):ubound(mask, 3)))
+          cut%faces(b)%partial = mask > 0.5_wp
+        end if
+      end associate
+    end do
 
   contains
 

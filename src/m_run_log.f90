@@ -67,11 +67,11 @@ contains
     call log_line('effects: reaction ' // trim(s%ph%reaction_reason))
     call log_line('effects: interfaces ' // trim(interfaces_reason(s)))
     call write_scenes(s)
-    if (s%ls%n > 0) call log_line('gfm: cut-cell update ' // trim(s%cut%reason))
-    if (s%cut%on .and. any(s%ls%kind == ls_material)) then
-      if (s%cut%body_dead > 0.0_wp) then
+    if (s%ls%n > 0) call log_line('gfm: cut-cell update ' // trim(s%cut(1)%reason))
+    if (s%cut(1)%on .and. any(s%ls%kind == ls_material)) then
+      if (s%cut(1)%body_dead > 0.0_wp) then
         write(line, '(a,f5.3,a,f3.1,a)') 'gfm: a body''s level set follows its content where ' &
-          // 'they drift apart by more than ', s%cut%body_dead, ' of a cell (grows; shrinks ' &
+          // 'they drift apart by more than ', s%cut(1)%body_dead, ' of a cell (grows; shrinks ' &
           // 'beyond ', body_shrink, ' times that: &numerics body_follow)'
       else
         line = 'gfm: a body''s level set does not follow its content (&numerics body_follow = 0)'

@@ -318,7 +318,7 @@ contains
     call effect(js, 'heat_conduction', s%ph%has_conduction, s%ph%conduction_reason)
     call effect(js, 'reaction', s%ph%has_reaction, s%ph%reaction_reason)
     call effect(js, 'interfaces', s%ls%n > 0, interfaces_reason(s))
-    call effect(js, 'cut_cell_update', s%cut%on, s%cut%reason)
+    call effect(js, 'cut_cell_update', s%cut(1)%on, s%cut(1)%reason)
     if (s%ls%n > 0) then
       call effect(js, 'conservation_fix', s%fix%on, s%fix%reason)
     else

@@ -84,7 +84,9 @@ module m_simulation
     type(made_t), allocatable :: made(:)   !< what the generators made of each body (m_scene)
     type(gf_t) :: gf                   !< the ghost-fluid state (m_gfm)
     type(fix_t) :: fix                 !< the conservation fix (m_gfm_conserve)
-    type(cut_t) :: cut                 !< the conservative cut-cell update (m_gfm_cut)
+    !> the conservative cut-cell update (m_gfm_cut), one for each cut phase (cut(1) alone,
+    !> off, without it; cut(1)%on: whether it is on)
+    type(cut_t), allocatable :: cut(:)
     type(counters_t) :: diag           !< what the step had to do, and its cost (m_fallback)
     type(work_t) :: wk
     type(timers_t) :: timers
@@ -156,9 +158,8 @@ contains
     call blocks_allocate(sim%lay, comm_rank(), sim%ph%nvar, sim%blocks)
     ! conserve = 'auto' or 'cut_cell': by the fluxes where m_gfm_cut applies (its exchanges
     ! take sim_plan's whole plan), else by the fix (below)
-    sim%cut%body_dead = cfg%body_follow
-    call cut_setup(sim%cut, cfg%conserve, cfg%heat_conduction .or. cfg%reaction, sim%lay, &
-      sim%ph, sim%ls, sim%blocks)
+    call cut_setup(sim%cut, cfg%conserve, cfg%heat_conduction .or. cfg%reaction, &
+      cfg%body_follow, sim%lay, sim%ph, sim%ls, sim%blocks)
     call sim_plan(sim)
     sim%bal%threshold = cfg%rebalance_threshold
     sim%bal%every = cfg%rebalance_every
@@ -176,7 +177,7 @@ contains
       sim%gf%scn%probe = probe_from_name(cfg%gfm_probe)
       sim%gf%scn%band = ghost_depth * maxval(sim%lay%dx(1:sim%lay%ndim))
       sim%gf%scn%contact = cfg%contact_kappa * maxval(sim%lay%dx(1:sim%lay%ndim))
-      if (sim%cut%on) then
+      if (sim%cut(1)%on) then
         sim%bc%linear_levelsets = .true.
         call fix_setup(sim%fix, sim%ph, sim%ls, 'none', size(sim%blocks))
         sim%fix%reason = 'off: the cut-cell update conserves by its fluxes'
@@ -591,7 +592,7 @@ contains
     call halo_plan_build(sim%lay, sim%blocks, sim%plan, faces, &
       merge(stencil_reach, n_halo, faces))
     ! (the coarray back end keeps one exchange set-up per run: one plan there)
-    sim%flow_faces = sim%ls%n > 0 .and. plain .and. .not. sim%cut%on .and. &
+    sim%flow_faces = sim%ls%n > 0 .and. plain .and. .not. sim%cut(1)%on .and. &
       comm_backend_name /= 'coarray'
     if (sim%flow_faces) call halo_plan_build(sim%lay, sim%blocks, sim%plan_flow, .true., &
       stencil_reach)

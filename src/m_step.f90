@@ -119,6 +119,8 @@ contains
     integer :: b, nbad
     logical :: edge, wall(2, 3)
     real(wp) :: vwall(2, 3), t_block(2)
+    integer :: content(size(sim%cut))   !< the cut phases (0: none)
+    content = sim%cut%p
     call timer_start(sim%timers, 'fluxes')
     do b = 1, size(sim%blocks)
       if (.not. which(b)) cycle
@@ -137,7 +139,7 @@ contains
         ! the cell-local fallback: the stage again with every face of the cells it left
         ! inadmissible at first order (one on a side shared with another block is left
         ! to the step fallback)
-        call find_trouble(sim%lay, sim%ph, blk, sim%wk%trouble, nbad, edge, sim%cut%p)
+        call find_trouble(sim%lay, sim%ph, blk, sim%wk%trouble, nbad, edge, content)
         if (nbad > 0 .and. .not. edge) then
           if (stage > 1) then
             blk%q(1:n(1), 1:n(2), 1:n(3), :) = sim%wk%qsave
@@ -176,7 +178,7 @@ contains
       sim%blocks(b), sim%gf%vel, sim%gf%ls_rhs, sim%gf%work%bigphi, sim%gf%work%owner)
     ! (a cut-cell phase's variables are only kept: its own update makes its stage content)
     kept = [1, 0]
-    if (sim%cut%on) kept = [sim%ph%lo(sim%cut%p), sim%ph%hi(sim%cut%p)]
+    if (sim%cut(1)%on) kept = [sim%ph%lo(minval(sim%cut%p)), sim%ph%hi(maxval(sim%cut%p))]
     associate (blk => sim%blocks(b))
       ! the stage input is kept for the cell-local fallback (at stage 1 it is q0 anyway)
       if (stage > 1) then

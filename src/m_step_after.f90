@@ -68,6 +68,7 @@ contains
     real(wp), intent(inout) :: rate
     logical, intent(inout) :: ok
     logical :: changed, moves(sim%ls%n)
+    integer :: k
     ! the level sets that reinitialisation rebuilds: those of material and void bodies
     moves = sim%ls%kind == ls_material .or. sim%ls%kind == ls_void
     if (mod(sim%clk%step + 1, sim%cfg%reinit_every) == 0 .and. any(moves)) then
@@ -75,7 +76,9 @@ contains
       call levelset_reinitialise(sim%plan, sim%lay, sim%bc, sim%ph, sim%blocks, moves, &
         sim%cfg%band, sim%clk%time, sim%gf%dormant)
       ! (the cut-cell geometry of the level sets before it no longer holds)
-      if (allocated(sim%cut%kept)) sim%cut%kept = .false.
+      do k = 1, size(sim%cut)
+        if (allocated(sim%cut(k)%kept)) sim%cut(k)%kept = .false.
+      end do
       call timer_stop(sim%timers, 'reinit')
     end if
     if (sim%fix%on .and. ok) then

@@ -150,20 +150,42 @@ contains
     end if
   end subroutine cut_applies
 
-  !> Set the cut-cell update up when it applies (cut_applies) and size its arrays for the
-  !> blocks of this rank.
-  subroutine cut_setup(cut, cfg_mode, sources, lay, ph, ls, blocks)
-    type(cut_t), intent(inout) :: cut
+  !> Set the cut-cell update up when it applies (cut_applies): cuts(k), one for each cut
+  !> phase, with its arrays sized for the blocks of this rank. Without it cuts(1) alone, off,
+  !> with the reason; cuts(1)%on says whether the update is on (every cut phase's `on`).
+  !> body_dead: &numerics body_follow (cut_t's body_dead).
+  subroutine cut_setup(cuts, cfg_mode, sources, body_dead, lay, ph, ls, blocks)
+    type(cut_t), allocatable, intent(inout) :: cuts(:)
     character(len=*), intent(in) :: cfg_mode   !< &numerics conserve
     logical, intent(in) :: sources             !< heat conduction or reaction in the scene
+    real(wp), intent(in) :: body_dead
     type(layout_t), intent(in) :: lay
     type(phases_t), intent(in) :: ph
     type(ls_set_t), intent(in) :: ls
     type(block_t), intent(in) :: blocks(:)
+    integer :: k
+    logical :: on
+    character(len=256) :: reason
+    call cut_applies(cfg_mode, sources, ph, ls, on, reason)
+    if (allocated(cuts)) deallocate(cuts)
+    allocate(cuts(merge(ph%nphase, 1, on)))
+    do k = 1, size(cuts)
+      cuts(k)%on = on
+      cuts(k)%reason = reason
+      cuts(k)%body_dead = body_dead
+      if (on) call cut_phase_setup(cuts(k), k, lay, ph, blocks)
+    end do
+  end subroutine cut_setup
+
+  !> The arrays of cut phase p, sized for the blocks of this rank.
+  subroutine cut_phase_setup(cut, p, lay, ph, blocks)
+    type(cut_t), intent(inout) :: cut
+    integer, intent(in) :: p
+    type(layout_t), intent(in) :: lay
+    type(phases_t), intent(in) :: ph
+    type(block_t), intent(in) :: blocks(:)
     integer :: n(3), b, g1(3)
-    call cut_applies(cfg_mode, sources, ph, ls, cut%on, cut%reason)
-    if (.not. cut%on) return
-    cut%p = 1
+    cut%p = p
     n = lay%nmax
     allocate(cut%c(n(1), n(2), n(3), ph%nflow, size(blocks)))
     allocate(cut%c0, mold=cut%c)
@@ -181,7 +203,7 @@ contains
       g1 = merge(1, 0, lay%ng > 0)
       allocate(cut%faces(b)%partial(1-g1(1):n(1)+g1(1), 1-g1(2):n(2)+g1(2), 1-g1(3):n(3)+g1(3)))
     end do
-  end subroutine cut_setup
+  end subroutine cut_phase_setup
 
   !> The geometry of the cut phase on block blk from its composite level set bigphi (over
   !> the padded block): the interior faces' apertures and fractions into cut%faces(b), and

@@ -21,7 +21,7 @@ module m_gfm_stage
   use m_gfm_conserve, only: fix_t
   use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_near
   use m_gfm_cut_budget, only: cut_strand, cut_scalars
-  use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty
+  use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty, near_boxes
   use m_gfm_cut_close, only: cut_follow, cut_follow_body
   use m_gfm_cut_cells, only: cut_donate
   use m_state, only: n_euler, i_rho
@@ -55,7 +55,7 @@ contains
   subroutine ghost_fluid_fill(gf, cut, ls, ph, plan, lay, bc, bodies, made, blocks, t, stage, &
       dt, thermal, failed)
     type(gf_t), intent(inout) :: gf
-    type(cut_t), intent(inout) :: cut
+    type(cut_t), intent(inout) :: cut(:)   !< one for each cut phase (m_gfm_cut's cut_setup)
     type(ls_set_t), intent(in) :: ls
     type(phases_t), intent(in) :: ph
     type(halo_plan_t), intent(inout) :: plan
@@ -68,15 +68,17 @@ contains
     integer, intent(in) :: stage
     logical, intent(in) :: thermal
     logical, intent(inout) :: failed
-    integer :: b
+    integer :: b, k
     call rigid_bodies_move(lay, bodies, made, ls, ph%ils, blocks, t)
-    if (cut%on) then
+    if (cut(1)%on) then
       if (stage == 1) then
         ! this step's budget per block (a step that is redone starts it again)
-        if (allocated(cut%side)) deallocate(cut%side, cut%out)
-        allocate(cut%side(2, 3, size(blocks)), cut%out(7, size(blocks)))
-        cut%side = 0.0_wp
-        cut%out = 0.0_wp
+        do k = 1, size(cut)
+          if (allocated(cut(k)%side)) deallocate(cut(k)%side, cut(k)%out)
+          allocate(cut(k)%side(2, 3, size(blocks)), cut(k)%out(7, size(blocks)))
+          cut(k)%side = 0.0_wp
+          cut(k)%out = 0.0_wp
+        end do
       end if
       call phase_states(gf, cut, ls, ph, plan, lay, bc, blocks, t, dt, 0, thermal, &
         merge(states_open, states_geometry, stage > 1), failed)
@@ -90,14 +92,19 @@ contains
       if (gfm_dormant(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work)) cycle
       call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, only=b)
       ! (its cut-cell geometry was not made at this stage: cut_update keeps every cell)
-      if (cut%on) cut%woke(b) = .true.
+      do k = 1, size(cut)
+        if (cut(k)%on) cut(k)%woke(b) = .true.
+      end do
     end do
     do b = 1, size(blocks)
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
       ! (a block dormant since the step's first stage holds its rest states: no writing again)
       call gfm_fill(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work, gf%counts, gf%dormant(b), &
         rested=stage > 1 .and. gf%dormant(b))
-      if (cut%on .and. .not. gf%dormant(b)) call cut_scalars(cut, b, blocks(b), ph, stage)
+      if (gf%dormant(b)) cycle
+      do k = 1, size(cut)
+        if (cut(k)%on) call cut_scalars(cut(k), b, blocks(b), ph, stage)
+      end do
     end do
 
   contains
@@ -109,7 +116,8 @@ contains
       if (comm_any(any(plan%remote))) then
         call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
       else
-        call refresh_ghosts(plan, lay, bc, blocks, ph, cut%put_box, t, gf%dormant)
+        call refresh_ghosts(plan, lay, bc, blocks, ph, put_boxes(cut, size(blocks)), t, &
+          gf%dormant)
       end if
     end subroutine states_halo
   end subroutine ghost_fluid_fill
@@ -121,10 +129,10 @@ contains
   !> flux) and which lie on its surface (transported variables at the real cell's value);
   !> what came in through the domain's sides goes to the conservation fix. Such a phase is
   !> not computed at all on a block it is absent from.
-  subroutine phase_rhs(gf, cut, ls, ph, num, fix, blk, b, p, stage, wall, vwall, work, nf, &
+  subroutine phase_rhs(gf, cuts, ls, ph, num, fix, blk, b, p, stage, wall, vwall, work, nf, &
       failed, trouble)
     type(gf_t), intent(inout) :: gf
-    type(cut_t), intent(inout) :: cut
+    type(cut_t), intent(inout), target :: cuts(:)
     type(ls_set_t), intent(in) :: ls
     type(phases_t), intent(in) :: ph
     type(numerics_t), intent(in) :: num
@@ -141,7 +149,13 @@ contains
     integer :: lo(3), hi(3), e(3), box(2, 3)
     logical :: near(blk%n(1), blk%n(2), blk%n(3))
     integer, allocatable :: boxes(:, :, :)   !< the boxes computed (none: the whole block)
-    if (ls%n > 0 .and. (ph%strong(p) .or. p == cut%p)) then
+    type(cut_t), pointer :: cut   !< phase p's cut-cell update (null: p is not a cut phase)
+    integer :: k
+    cut => null()
+    do k = 1, size(cuts)
+      if (cuts(k)%on .and. cuts(k)%p == p) cut => cuts(k)
+    end do
+    if (ls%n > 0 .and. (ph%strong(p) .or. associated(cut))) then
       lo = 1 - blk%lay%ng
       hi = blk%n + blk%lay%ng
       call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
@@ -154,7 +168,7 @@ contains
       ! one box in each tile of the block (the rest of the block again holds its rest state
       ! after the update): a grain's colour is computed over about its own cells, not over the
       ! box of every grain of that colour in the block.
-      if (.not. cut%on) then
+      if (.not. cuts(1)%on) then
         near = gf%work%bigphi(1:blk%n(1), 1:blk%n(2), 1:blk%n(3), p) &
           <= 2.0_wp * maxval(blk%lay%dx(1:blk%lay%ndim))
         if (.not. any(near)) then
@@ -165,7 +179,7 @@ contains
         end if
         boxes = near_boxes(near, tile_cells)
       end if
-      if (p == cut%p) then
+      if (associated(cut)) then
         ! the cut-cell phase: the rate of its content, fluxes times the wet faces; every
         ! face with a wet part joins two wet cells, and there the transported variables
         ! (S, eps_p, w_c) move with the mass flux (upwind), whatever the cells' centres.
@@ -207,59 +221,6 @@ contains
     end if
   end subroutine phase_rhs
 
-  !> The boxes of the true cells of mask (one at least) tile by tile: the block cut into
-  !> tiles of about `tile` cells along each direction, in each tile the smallest box that
-  !> holds its true cells (none where it has none); boxes(:, :, ib) is (low, high corner).
-  pure function near_boxes(mask, tile) result(boxes)
-    logical, intent(in) :: mask(:, :, :)
-    integer, intent(in) :: tile
-    integer, allocatable :: boxes(:, :, :)
-    integer :: nt(3), n(3), t(3), a(3), z(3), box(2, 3), nbox, i, j, k
-    n = shape(mask)
-    nt = max(1, nint(real(n, wp) / tile))
-    allocate(boxes(2, 3, product(nt)))
-    nbox = 0
-    do k = 0, nt(3) - 1
-      do j = 0, nt(2) - 1
-        do i = 0, nt(1) - 1
-          t = [i, j, k]
-          a = t * n / nt + 1
-          z = (t + 1) * n / nt
-          box = bounding_box(mask(a(1):z(1), a(2):z(2), a(3):z(3)))
-          if (any(box(1, :) > box(2, :))) cycle
-          nbox = nbox + 1
-          boxes(1, :, nbox) = box(1, :) + a - 1
-          boxes(2, :, nbox) = box(2, :) + a - 1
-        end do
-      end do
-    end do
-    boxes = boxes(:, :, 1:nbox)
-  end function near_boxes
-
-  !> The smallest box (low, high corner) that holds every true cell of mask (low > high
-  !> where it has none).
-  pure function bounding_box(mask) result(box)
-    logical, intent(in) :: mask(:, :, :)
-    integer :: box(2, 3), d, i
-    logical :: hit
-    do d = 1, 3
-      box(:, d) = [size(mask, d) + 1, 0]
-      do i = 1, size(mask, d)
-        select case (d)
-        case (1)
-          hit = any(mask(i, :, :))
-        case (2)
-          hit = any(mask(:, i, :))
-        case default
-          hit = any(mask(:, :, i))
-        end select
-        if (.not. hit) cycle
-        box(1, d) = min(box(1, d), i)
-        box(2, d) = i
-      end do
-    end do
-  end function bounding_box
-
   !> After the stage update of block blk: the radial return of every phase with strength
   !> (with a surface, on its real cells, a cell that has just turned real brought to the
   !> yield surface without plastic work), overlap between material bodies removed, debris
@@ -268,7 +229,7 @@ contains
   !> return and rest states come when the content is made states again.
   subroutine phase_corrections(gf, cut, ls, ph, fix, blk, b, stage, order, dt, thermal)
     type(gf_t), intent(inout) :: gf
-    type(cut_t), intent(inout) :: cut
+    type(cut_t), intent(inout) :: cut(:)
     type(ls_set_t), intent(in) :: ls
     type(phases_t), intent(in) :: ph
     type(fix_t), intent(inout) :: fix
@@ -277,9 +238,11 @@ contains
     real(wp), intent(in) :: dt
     logical, intent(in) :: thermal
     logical :: fresh(blk%n(1), blk%n(2), blk%n(3))
-    integer :: p, lo(3), hi(3)
-    if (cut%on) then
-      call cut_update(cut, b, blk, ph, stage, order, dt)
+    integer :: p, lo(3), hi(3), k
+    if (cut(1)%on) then
+      do k = 1, size(cut)
+        call cut_update(cut(k), b, blk, ph, stage, order, dt)
+      end do
       return
     end if
     associate (n => blk%n, w => gf%work)
@@ -309,6 +272,20 @@ contains
     end associate
   end subroutine phase_corrections
 
+  !> Each block's box of the cells whose states the last open put (cut_t's put_box), over
+  !> every cut phase.
+  pure function put_boxes(cut, nb) result(box)
+    type(cut_t), intent(in) :: cut(:)
+    integer, intent(in) :: nb
+    integer :: box(2, 3, nb), b, k
+    do b = 1, nb
+      box(:, :, b) = cut(1)%put_box(:, :, b)
+      do k = 2, size(cut)
+        box(:, :, b) = box_union(box(:, :, b), cut(k)%put_box(:, :, b))
+      end do
+    end do
+  end function put_boxes
+
   !> The cut-cell phase's content and states (m_gfm_cut; nothing to do without one), on
   !> every awake block, by mode:
   !> - states_geometry (the first stage): its geometry from the level sets;
@@ -322,10 +299,10 @@ contains
   !> - states_start (the run's start: the initial state painted or read from a checkpoint):
   !>   every halo brought up to date, the content taken from the states and the fractions.
   !> failed: a state that is not admissible.
-  subroutine phase_states(gf, cut, ls, ph, plan, lay, bc, blocks, t, dt, order, thermal, mode, &
+  subroutine phase_states(gf, cuts, ls, ph, plan, lay, bc, blocks, t, dt, order, thermal, mode, &
       failed)
     type(gf_t), intent(inout) :: gf
-    type(cut_t), intent(inout) :: cut
+    type(cut_t), intent(inout), target :: cuts(:)   !< one for each cut phase
     type(ls_set_t), intent(in) :: ls
     type(phases_t), intent(in) :: ph
     type(halo_plan_t), intent(inout) :: plan
@@ -344,22 +321,27 @@ contains
     real(wp), allocatable :: step(:, :)       !< this step's budget terms per block
     real(wp) :: w(3)                          !< the stages' weights
     real(wp) :: total(7)
-    integer :: b, p, m, lo(3), hi(3), n(3), v0, box(2, 3)
+    integer :: b, p, m, lo(3), hi(3), n(3), v0, box(2, 3), k, kbox(2, 3)
     logical :: body_moved, followed   !< a material body's level set moved (cut_follow_body)
-    if (.not. cut%on) return
+    logical :: kmoved
+    if (.not. cuts(1)%on) return
     body_moved = .false.
     if (mode == states_start) call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_all, t, &
       gf%dormant)
     if (mode == states_end) call end_halo()
-    if (mode == states_start) cut%started = .false.
+    do k = 1, size(cuts)
+      if (mode == states_start) cuts(k)%started = .false.
+    end do
     open_sides = reshape([bc%lo == bc_outflow, bc%hi == bc_outflow], [2, 3], order=[2, 1])
     states = mode == states_open .or. mode == states_end
     final = mode == states_end
     bad = .false.
-    p = cut%p
-    v0 = ph%lo(p) - 1
     moved = .false.
     mbox = spread(box_empty, 3, size(blocks))
+    do k = 1, size(cuts)
+    associate (cut => cuts(k))
+    p = cut%p
+    v0 = ph%lo(p) - 1
     do b = 1, size(blocks)
       if (gf%dormant(b)) cycle
       ! (a step's first stage: the geometry of the last step's end, when nothing has moved
@@ -396,15 +378,22 @@ contains
           box = box_whole(n)
           if (cut%boxed(b)) box = box_union(cut%box(:, :, b), cut%wet_box(:, :, b))
           cut%box(:, :, b) = box
-          call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a, box, moved(b), &
-            mbox(:, :, b))
+          call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a, box, kmoved, kbox)
+          moved(b) = moved(b) .or. kmoved
+          mbox(:, :, b) = box_union(mbox(:, :, b), kbox)
         end if
       end associate
     end do
     cut%started = .true.
     cut%kept = .false.
+    end associate
+    end do
     if (.not. states) return
     call content_halo()
+    do k = 1, size(cuts)
+    associate (cut => cuts(k))
+    p = cut%p
+    v0 = ph%lo(p) - 1
     do b = 1, size(blocks)
       if (gf%dormant(b)) then
         ! dry: its step-start states (a block that fell dormant in this step held content,
@@ -463,9 +452,16 @@ contains
           if (cut%body_dead > 0.0_wp) call cut_follow_body(blk, ph%ils, ph%lo(cut%p) - 1, &
             ls, cut%p, f%alpha, cut%c(:, :, :, i_rho, b), cut%body_dead, followed)
           body_moved = body_moved .or. followed
-          call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
         end if
       end associate
+    end do
+    end associate
+    end do
+    ! the rest state beyond every phase (after every cut phase's content is states)
+    do b = 1, size(blocks)
+      if (gf%dormant(b) .or. .not. final) cycle
+      call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
+      call gfm_rest(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work)
     end do
     if (.not. final) then
       failed = failed .or. bad
@@ -477,21 +473,25 @@ contains
     ! before it: a void's level set follows its content at every step (cut_follow)
     ! and a material body's follows it where they drift apart (cut_follow_body)
     body_moved = comm_any(body_moved)
-    cut%kept = .not. gf%dormant .and. .not. any(ls%kind == ls_void) .and. .not. body_moved
     ! what came in through the domain's sides in this step (the stages' weights) and what
     ! the cell rules sent out or stranded, summed over the blocks in the order of their ids
     allocate(step(7, size(blocks)))
     w = rk_weights(order)
-    do b = 1, size(blocks)
-      step(1:2, b) = dt * (cut%side(:, 1, b) * w(1) + cut%side(:, 2, b) * w(2) &
-        + cut%side(:, 3, b) * w(3)) + cut%out(1:2, b)
-      step(3:7, b) = cut%out(3:7, b)
+    do k = 1, size(cuts)
+      associate (cut => cuts(k))
+        cut%kept = .not. gf%dormant .and. .not. any(ls%kind == ls_void) .and. .not. body_moved
+        do b = 1, size(blocks)
+          step(1:2, b) = dt * (cut%side(:, 1, b) * w(1) + cut%side(:, 2, b) * w(2) &
+            + cut%side(:, 3, b) * w(3)) + cut%out(1:2, b)
+          step(3:7, b) = cut%out(3:7, b)
+        end do
+        total = comm_sum_by_key(step, [(blocks(b)%id, b = 1, size(blocks))], lay%nblocks)
+        cut%crossed = cut%crossed + total(1:2)
+        cut%stranded = cut%stranded + total(3:4)
+        cut%closing = cut%closing + total(5:6)
+        cut%held = cut%held + total(7)
+      end associate
     end do
-    total = comm_sum_by_key(step, [(blocks(b)%id, b = 1, size(blocks))], lay%nblocks)
-    cut%crossed = cut%crossed + total(1:2)
-    cut%stranded = cut%stranded + total(3:4)
-    cut%closing = cut%closing + total(5:6)
-    cut%held = cut%held + total(7)
 
   contains
 
@@ -524,7 +524,10 @@ contains
       call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_level_sets, t, gf%dormant)
       do c = 1, size(blocks)
         near(:, :, c) = box_empty
-        if (.not. gf%dormant(c)) near(:, :, c) = cut_near(cut, c, blocks(c)%n)
+        if (gf%dormant(c)) cycle
+        do k = 1, size(cuts)
+          near(:, :, c) = box_union(near(:, :, c), cut_near(cuts(k), c, blocks(c)%n))
+        end do
       end do
       call refresh_ghosts(plan, lay, bc, blocks, ph, near, t, gf%dormant)
     end subroutine end_halo

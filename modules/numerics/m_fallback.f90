@@ -92,9 +92,9 @@ contains
     logical, intent(out) :: trouble(:, :, :)
     integer, intent(out) :: nbad
     logical, intent(out) :: edge
-    !> a phase whose variables hold its cut-cell content, not states (m_gfm_cut; 0: none):
-    !> its states are tested when they are made
-    integer, intent(in) :: content
+    !> the phases whose variables hold their cut-cell content, not states (m_gfm_cut; 0:
+    !> none): their states are tested when they are made
+    integer, intent(in) :: content(:)
     integer :: j, k, p, off, n, d
     logical :: lo_shared, hi_shared
     real(wp), dimension(blk%n(1)) :: rho, u, v, w, pr, e, c2
@@ -102,7 +102,7 @@ contains
     trouble = .false.
     associate (q => blk%q)
       do p = 1, ph%nphase
-        if (p == content) cycle
+        if (any(content == p)) cycle
         off = ph%lo(p) - 1
         do k = 1, blk%n(3)
           do j = 1, blk%n(2)
