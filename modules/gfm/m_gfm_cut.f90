@@ -87,6 +87,9 @@ module m_gfm_cut
     real(wp) :: closing(2) = 0.0_wp               !< closing cells (cell-steps), their heat
     real(wp) :: held = 0.0_wp                     !< drained full cells given a cut cell's
                                                   !< density (cell-stages)
+    !> cell-stages whose contact with a later cut phase exchanged traction and work (this
+    !> rank's, m_gfm_cut_contact)
+    integer :: contacts = 0
     type(cut_work_t) :: work                      !< scratch of the stage's passes (any block)
     !> (2, 3, block) boxes (m_gfm_cut_box) of this stage: the cells beyond which the content
     !> c is zero (boxed: made by cut_update, which scans c0 at a step's first stage), the
@@ -131,9 +134,20 @@ contains
       reason = "off: &numerics conserve = '" // trim(cfg_mode) // "'"
     else if (ls%n == 0) then
       reason = 'off: no level sets'
+    else if (ph%nphase > 1 .and. cfg_mode == 'cut_cell' .and. all(ls%kind == ls_material)) then
+      ! material bodies in contact (MMI), every phase a cut phase: asked for explicitly
+      ! while it is being verified (m_gfm_cut_contact; not yet the default)
+      if (sources) then
+        reason = 'off: not built with heat conduction or reaction'
+      else
+        on = .true.
+        reason = 'on: every phase (' // trim(ph%material(1)) // ', ...) with free surfaces ' &
+          // 'and contacts (conserve = ''cut_cell'')'
+      end if
+      return
     else if (ph%nphase /= 1 .or. any(ls%kind /= ls_material .and. ls%kind /= ls_void)) then
-      reason = 'off: built for one phase with free surfaces only (no contact, no rigid ' &
-        // 'body yet); the conservation fix instead'
+      reason = 'off: built for one phase with free surfaces only (contacts only with ' &
+        // 'conserve = ''cut_cell'', no rigid body yet); the conservation fix instead'
     else if (sources) then
       ! (an explicit 'cut_cell' with these is refused by the deck check)
       reason = 'off: not built with heat conduction or reaction (their sources do not ' &

@@ -24,6 +24,7 @@ module m_gfm_stage
   use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty, near_boxes
   use m_gfm_cut_close, only: cut_follow, cut_follow_body
   use m_gfm_cut_cells, only: cut_donate
+  use m_gfm_cut_contact, only: cut_contact
   use m_state, only: n_euler, i_rho
   use m_boundary, only: ghosts_all, ghosts_level_sets, bc_outflow
   use m_comm, only: comm_any, comm_sum_by_key
@@ -206,6 +207,8 @@ contains
           blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
           wet, trouble, cut%faces(b), reshape(box, [2, 3, 1]))
         cut%side(:, stage, b) = cut%side(:, stage, b) + work%bflux
+        ! with the last cut phase's rate: the contacts between every pair of cut phases
+        if (p == cuts(size(cuts))%p) call contacts()
         return
       end if
       ! (with a cut-cell phase in the scene: no boxes, the whole block; an unallocated
@@ -219,6 +222,28 @@ contains
         blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
         trouble=trouble)
     end if
+
+  contains
+
+    !> The interface exchange of every pair of cut phases (m_gfm_cut_contact) in the cells
+    !> whose rates both computed.
+    subroutine contacts()
+      integer :: k1, k2, p1, p2, both(2, 3)
+      do k1 = 1, size(cuts) - 1
+        do k2 = k1 + 1, size(cuts)
+          both(1, :) = max(cuts(k1)%rate_box(1, :, b), cuts(k2)%rate_box(1, :, b))
+          both(2, :) = min(cuts(k1)%rate_box(2, :, b), cuts(k2)%rate_box(2, :, b))
+          if (any(both(1, :) > both(2, :))) cycle
+          p1 = cuts(k1)%p
+          p2 = cuts(k2)%p
+          call cut_contact(blk%lay, blk%offset, both, ph%eos(p1), ph%eos(p2), ph%shear(p1), &
+            ph%shear(p2), blk%q(:, :, :, ph%lo(p1):ph%hi(p1)), &
+            blk%q(:, :, :, ph%lo(p2):ph%hi(p2)), cuts(k1)%faces(b), cuts(k2)%faces(b), &
+            blk%rhs(:, :, :, ph%lo(p1):ph%hi(p1)), blk%rhs(:, :, :, ph%lo(p2):ph%hi(p2)), &
+            cuts(k1)%contacts)
+        end do
+      end do
+    end subroutine contacts
   end subroutine phase_rhs
 
   !> After the stage update of block blk: the radial return of every phase with strength
