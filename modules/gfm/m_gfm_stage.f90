@@ -92,9 +92,24 @@ contains
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
       if (gfm_dormant(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work)) cycle
       call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, only=b)
-      ! (its cut-cell geometry was not made at this stage: cut_update keeps every cell)
+      ! (its cut-cell geometry was not made at this stage: cut_update keeps every cell; a
+      ! phase that never had a geometry on it, as where a block wakes for another cut
+      ! phase, takes one now, with no fractions at the last step's end)
       do k = 1, size(cut)
-        if (cut(k)%on) cut(k)%woke(b) = .true.
+        if (.not. cut(k)%on) cycle
+        cut(k)%woke(b) = .true.
+        if (allocated(cut(k)%ext(b)%a)) cycle
+        associate (blk => blocks(b), p => cut(k)%p)
+          call ls_region(ls, p, 1 - blk%lay%ng, blk%n + blk%lay%ng, &
+            blk%q(:, :, :, ph%ils + 1:ph%nvar), gf%work%bigphi(:, :, :, p), &
+            gf%work%owner(:, :, :, p))
+          call cut_geometry(cut(k), b, blk, gf%work%bigphi(:, :, :, p), &
+            reshape([bc%lo == bc_outflow, bc%hi == bc_outflow], [2, 3], order=[2, 1]), &
+            cut(k)%ext(b)%a)
+          if (allocated(cut(k)%ext_n(b)%a)) deallocate(cut(k)%ext_n(b)%a)
+          allocate(cut(k)%ext_n(b)%a, mold=cut(k)%ext(b)%a)
+          cut(k)%ext_n(b)%a = 0.0_wp
+        end associate
       end do
     end do
     do b = 1, size(blocks)
