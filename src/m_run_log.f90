@@ -214,6 +214,11 @@ contains
         'within 2 cells of a body surface taken out of the body as debris; ', f%gfm(11), &
         ' right-hand sides of a phase on a block it is absent from not computed'
       call log_line(line)
+      if (size(s%cut) > 1) then
+        write(line, '(a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%contacts), i8)), ' cell-stages of ' // &
+          'a contact between cut phases exchanged traction and work (m_gfm_cut_contact)'
+        call log_line(line)
+      end if
       if (s%fix%on) then
         write(line, '(a,es11.4,a,f8.4,a,es11.4,a)') 'gfm: conservation fix took out ', &
           f%fixed(1), ' kg (', f%fixed_percent(1), ' % of the solids'' mass) and ', &
