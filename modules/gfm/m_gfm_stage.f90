@@ -379,123 +379,124 @@ contains
     moved = .false.
     mbox = spread(box_empty, 3, size(blocks))
     do k = 1, size(cuts)
-    associate (cut => cuts(k))
-    p = cut%p
-    v0 = ph%lo(p) - 1
-    do b = 1, size(blocks)
-      if (gf%dormant(b)) cycle
-      ! (a step's first stage: the geometry of the last step's end, when nothing has moved
-      ! the level sets since)
-      if (mode == states_geometry .and. cut%kept(b)) cycle
-      associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
-        call phase_region(blk)
-        call cut_geometry(cut, b, blk, w%bigphi(:, :, :, p), open_sides, cut%ext(b)%a)
-        if (.not. allocated(cut%ext_n(b)%a)) then
-          ! a block that has just woken: it held none of the phase at the last step's end
-          allocate(cut%ext_n(b)%a, mold=cut%ext(b)%a)
-          cut%ext_n(b)%a = 0.0_wp
-        end if
-        if (.not. cut%started .and. .not. cut%restored) then
-          ! the run's start: a wet cell whose centre lies outside holds no state of the
-          ! phase yet; its ghost state (the phase's state beside it) makes its content
-          call gfm_fill(blk%lay, gf%scn, ls, blk%q, gf%work, gf%counts, gf%dormant(b))
-          do m = 1, ph%nflow
-            cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = f%alpha * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
-          end do
-        end if
-        if (.not. cut%started) then
-          if (cut%restored_fractions) then
-            ! a restart's fractions came from the checkpoint (those of the level set before
-            ! the step end's follow); beyond the domain's sides the level set's
-            where (cut%ext_n(b)%a < 0.0_wp) cut%ext_n(b)%a = cut%ext(b)%a
-          else
-            cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
-            cut%ext_n(b)%a = cut%ext(b)%a
-          end if
-        end if
-        if (states) then
-          ! the cells content can reach: the content's box and those that may be wet
-          box = box_whole(n)
-          if (cut%boxed(b)) box = box_union(cut%box(:, :, b), cut%wet_box(:, :, b))
-          cut%box(:, :, b) = box
-          call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a, box, kmoved, kbox)
-          moved(b) = moved(b) .or. kmoved
-          mbox(:, :, b) = box_union(mbox(:, :, b), kbox)
-        end if
+      associate (cut => cuts(k))
+        p = cut%p
+        v0 = ph%lo(p) - 1
+        do b = 1, size(blocks)
+          if (gf%dormant(b)) cycle
+          ! (a step's first stage: the geometry of the last step's end, when nothing has moved
+          ! the level sets since)
+          if (mode == states_geometry .and. cut%kept(b)) cycle
+          associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
+            call phase_region(blk)
+            call cut_geometry(cut, b, blk, w%bigphi(:, :, :, p), open_sides, cut%ext(b)%a)
+            if (.not. allocated(cut%ext_n(b)%a)) then
+              ! a block that has just woken: it held none of the phase at the last step's end
+              allocate(cut%ext_n(b)%a, mold=cut%ext(b)%a)
+              cut%ext_n(b)%a = 0.0_wp
+            end if
+            if (.not. cut%started .and. .not. cut%restored) then
+              ! the run's start: a wet cell whose centre lies outside holds no state of the
+              ! phase yet; its ghost state (the phase's state beside it) makes its content
+              call gfm_fill(blk%lay, gf%scn, ls, blk%q, gf%work, gf%counts, gf%dormant(b))
+              do m = 1, ph%nflow
+                cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = &
+                  f%alpha * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
+              end do
+            end if
+            if (.not. cut%started) then
+              if (cut%restored_fractions) then
+                ! a restart's fractions came from the checkpoint (those of the level set before
+                ! the step end's follow); beyond the domain's sides the level set's
+                where (cut%ext_n(b)%a < 0.0_wp) cut%ext_n(b)%a = cut%ext(b)%a
+              else
+                cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
+                cut%ext_n(b)%a = cut%ext(b)%a
+              end if
+            end if
+            if (states) then
+              ! the cells content can reach: the content's box and those that may be wet
+              box = box_whole(n)
+              if (cut%boxed(b)) box = box_union(cut%box(:, :, b), cut%wet_box(:, :, b))
+              cut%box(:, :, b) = box
+              call cut_donate(blk, ph, p, cut%ext(b)%a, cut%ext_n(b)%a, box, kmoved, kbox)
+              moved(b) = moved(b) .or. kmoved
+              mbox(:, :, b) = box_union(mbox(:, :, b), kbox)
+            end if
+          end associate
+        end do
+        cut%started = .true.
+        cut%kept = .false.
       end associate
-    end do
-    cut%started = .true.
-    cut%kept = .false.
-    end associate
     end do
     if (.not. states) return
     call content_halo()
     do k = 1, size(cuts)
-    associate (cut => cuts(k))
-    p = cut%p
-    v0 = ph%lo(p) - 1
-    do b = 1, size(blocks)
-      if (gf%dormant(b)) then
-        ! dry: its step-start states (a block that fell dormant in this step held content,
-        ! which the budget counts as stranded)
-        n = blocks(b)%n
-        blocks(b)%q(1:n(1), 1:n(2), 1:n(3), ph%lo(p):ph%hi(p)) = &
-          blocks(b)%q0(:, :, :, ph%lo(p):ph%hi(p))
-        cut%put_box(:, :, b) = box_whole(n)
-        cut%boxed(b) = .false.
-        if (final) call cut_strand(cut, b, blocks(b))
-        if (final) cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
-        if (final .and. allocated(cut%ext_n(b)%a)) cut%ext_n(b)%a = 0.0_wp
-        if (final) cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = 0.0_wp
-        cycle
-      end if
-      associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
-        call phase_region(blk)
-        call cut_open(cut, b, blk, ph, cut%ext(b)%a, open_sides, final, bad, &
-          w%bigphi(:, :, :, p), w%owner(:, :, :, p), cut%box(:, :, b), gf%scn%band)
-        if (ph%strong(p)) then
-          isreal = w%bigphi(1:n(1), 1:n(2), 1:n(3), p) < 0.0_wp
-          fresh = isreal .and. .not. cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) > 0.0_wp
-          call plastic_correction(blk%lay, ph%eos(p), ph%st(p), thermal, dt, &
-            blk%q(:, :, :, ph%lo(p):ph%hi(p)), isreal, fresh)
-          ! the returned stress, eps_p and w_c back into content, per mass (a cut cell's
-          ! state has the density of the material beside it, m_gfm_cut); beyond the box the
-          ! content is zero and stays so (m_gfm_cut_box)
-          box = cut%box(:, :, b)
-          if (all(box(1, :) <= box(2, :))) then
-            associate (x => box(:, 1), y => box(:, 2), z => box(:, 3))
-              share = f%alpha(x(1):x(2), y(1):y(2), z(1):z(2))
-              where (blk%q(x(1):x(2), y(1):y(2), z(1):z(2), v0 + i_rho) > 0.0_wp) share = &
-                cut%c(x(1):x(2), y(1):y(2), z(1):z(2), i_rho, b) &
-                / blk%q(x(1):x(2), y(1):y(2), z(1):z(2), v0 + i_rho)
-              do m = n_euler + 1, ph%nflow
-                cut%c(x(1):x(2), y(1):y(2), z(1):z(2), m, b) = &
-                  share * blk%q(x(1):x(2), y(1):y(2), z(1):z(2), v0 + m)
-              end do
-            end associate
+      associate (cut => cuts(k))
+        p = cut%p
+        v0 = ph%lo(p) - 1
+        do b = 1, size(blocks)
+          if (gf%dormant(b)) then
+            ! dry: its step-start states (a block that fell dormant in this step held content,
+            ! which the budget counts as stranded)
+            n = blocks(b)%n
+            blocks(b)%q(1:n(1), 1:n(2), 1:n(3), ph%lo(p):ph%hi(p)) = &
+              blocks(b)%q0(:, :, :, ph%lo(p):ph%hi(p))
+            cut%put_box(:, :, b) = box_whole(n)
+            cut%boxed(b) = .false.
+            if (final) call cut_strand(cut, b, blocks(b))
+            if (final) cut%c0(1:n(1), 1:n(2), 1:n(3), :, b) = 0.0_wp
+            if (final .and. allocated(cut%ext_n(b)%a)) cut%ext_n(b)%a = 0.0_wp
+            if (final) cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = 0.0_wp
+            cycle
           end if
-        end if
-        if (final) then
-          ! (beyond the box both are zero already)
-          box = cut%box(:, :, b)
-          if (all(box(1, :) <= box(2, :))) then
-            associate (x => box(:, 1), y => box(:, 2), z => box(:, 3))
-              cut%c0(x(1):x(2), y(1):y(2), z(1):z(2), :, b) = &
-                cut%c(x(1):x(2), y(1):y(2), z(1):z(2), :, b)
-            end associate
-          end if
-          cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
-          cut%ext_n(b)%a = cut%ext(b)%a
-          ! (before the rest state replaces the states of the cells whose centre is outside)
-          call cut_follow(blk, ph%ils, ph%lo(cut%p) - 1, ls, f%alpha, &
-            cut%c(:, :, :, i_rho, b), cut%follow)
-          if (cut%body_dead > 0.0_wp) call cut_follow_body(blk, ph%ils, ph%lo(cut%p) - 1, &
-            ls, cut%p, f%alpha, cut%c(:, :, :, i_rho, b), cut%body_dead, followed)
-          body_moved = body_moved .or. followed
-        end if
+          associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
+            call phase_region(blk)
+            call cut_open(cut, b, blk, ph, cut%ext(b)%a, open_sides, final, bad, &
+              w%bigphi(:, :, :, p), w%owner(:, :, :, p), cut%box(:, :, b), gf%scn%band)
+            if (ph%strong(p)) then
+              isreal = w%bigphi(1:n(1), 1:n(2), 1:n(3), p) < 0.0_wp
+              fresh = isreal .and. .not. cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) > 0.0_wp
+              call plastic_correction(blk%lay, ph%eos(p), ph%st(p), thermal, dt, &
+                blk%q(:, :, :, ph%lo(p):ph%hi(p)), isreal, fresh)
+              ! the returned stress, eps_p and w_c back into content, per mass (a cut cell's
+              ! state has the density of the material beside it, m_gfm_cut); beyond the box the
+              ! content is zero and stays so (m_gfm_cut_box)
+              box = cut%box(:, :, b)
+              if (all(box(1, :) <= box(2, :))) then
+                associate (x => box(:, 1), y => box(:, 2), z => box(:, 3))
+                  share = f%alpha(x(1):x(2), y(1):y(2), z(1):z(2))
+                  where (blk%q(x(1):x(2), y(1):y(2), z(1):z(2), v0 + i_rho) > 0.0_wp) share = &
+                    cut%c(x(1):x(2), y(1):y(2), z(1):z(2), i_rho, b) &
+                    / blk%q(x(1):x(2), y(1):y(2), z(1):z(2), v0 + i_rho)
+                  do m = n_euler + 1, ph%nflow
+                    cut%c(x(1):x(2), y(1):y(2), z(1):z(2), m, b) = &
+                      share * blk%q(x(1):x(2), y(1):y(2), z(1):z(2), v0 + m)
+                  end do
+                end associate
+              end if
+            end if
+            if (final) then
+              ! (beyond the box both are zero already)
+              box = cut%box(:, :, b)
+              if (all(box(1, :) <= box(2, :))) then
+                associate (x => box(:, 1), y => box(:, 2), z => box(:, 3))
+                  cut%c0(x(1):x(2), y(1):y(2), z(1):z(2), :, b) = &
+                    cut%c(x(1):x(2), y(1):y(2), z(1):z(2), :, b)
+                end associate
+              end if
+              cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) = f%alpha
+              cut%ext_n(b)%a = cut%ext(b)%a
+              ! (before the rest state replaces the states of the cells whose centre is outside)
+              call cut_follow(blk, ph%ils, ph%lo(cut%p) - 1, ls, f%alpha, &
+                cut%c(:, :, :, i_rho, b), cut%follow)
+              if (cut%body_dead > 0.0_wp) call cut_follow_body(blk, ph%ils, ph%lo(cut%p) - 1, &
+                ls, cut%p, f%alpha, cut%c(:, :, :, i_rho, b), cut%body_dead, followed)
+              body_moved = body_moved .or. followed
+            end if
+          end associate
+        end do
       end associate
-    end do
-    end associate
     end do
     ! the rest state beyond every phase (after every cut phase's content is states)
     do b = 1, size(blocks)
