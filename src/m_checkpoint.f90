@@ -94,6 +94,7 @@ contains
         call h5_write_attr(f, trim(pre) // '_crossed', cut%crossed)
         call h5_write_attr(f, trim(pre) // '_closing', cut%closing)
         call h5_write_attr(f, trim(pre) // '_held', cut%held)
+        if (size(sim%cut) > 1) call h5_write_attr(f, trim(pre) // '_exchanged', cut%exchanged)
         call block_fields(f, sim, content_fields, .true., k)
         ! the fractions the states were formed at (the void's level set has followed the
         ! content since: cut_follow), which the next step's exchange of filled cells
@@ -239,10 +240,15 @@ contains
           call h5_read_attr(f, trim(pre) // '_crossed', cut%crossed)
           ! (a checkpoint written before the closing exchange counts from the restart on)
           cut%closing = 0.0_wp
-          if (h5_has_attr(f, trim(pre) // '_closing')) call h5_read_attr(f, trim(pre) // '_closing', &
+          if (h5_has_attr(f, trim(pre) // '_closing')) call h5_read_attr(f, &
+            trim(pre) // '_closing', &
             cut%closing)
           cut%held = 0.0_wp
-          if (h5_has_attr(f, trim(pre) // '_held')) call h5_read_attr(f, trim(pre) // '_held', cut%held)
+          if (h5_has_attr(f, trim(pre) // '_held')) call h5_read_attr(f, &
+            trim(pre) // '_held', cut%held)
+          cut%exchanged = 0.0_wp
+          if (h5_has_attr(f, trim(pre) // '_exchanged')) call h5_read_attr(f, &
+            trim(pre) // '_exchanged', cut%exchanged)
           call block_fields(f, sim, content_fields, .false., k)
           cut%restored = .true.
           if (h5_exists(f, trim(fractions_name(k)))) call restore_fractions(k)

@@ -214,6 +214,9 @@ contains
         if (c > 1) pre = 'cut' // int_text(c)
         cols = [character(len=name_len) :: cols, (trim(pre) // '_' // trim(cut_item(k)), &
           k = 1, size(cut_item))]
+        ! (with contacts: the energy in through them, so far)
+        if (size(sim%cut) > 1) cols = [character(len=name_len) :: cols, &
+          trim(pre) // '_exchange_energy']
       end do
     end if
     ! the mass burnt, sum rho lambda V over the real cells (reaction, m_reaction)
@@ -281,6 +284,7 @@ contains
       cut_tot(1:3) = sums(4 + 4 * c:6 + 4 * c)
       cut_tot(8) = sums(7 + 4 * c)
       v = [v, cut_tot, sim%cut(c)%closing, sim%cut(c)%held, comm_max(xmax(c))]
+      if (nc > 1) v = [v, sim%cut(c)%exchanged]
     end do
     if (sim%ph%has_reaction) v = [v, sums(r)]
     nb = 0

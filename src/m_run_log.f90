@@ -215,8 +215,9 @@ contains
         ' right-hand sides of a phase on a block it is absent from not computed'
       call log_line(line)
       if (size(s%cut) > 1) then
-        write(line, '(a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%contacts), i8)), ' cell-stages of ' // &
-          'a contact between cut phases exchanged traction and work (m_gfm_cut_contact)'
+        write(line, '(a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%contacts), i8)), &
+          ' cell-stages of a contact between cut phases exchanged traction and work ' // &
+          '(m_gfm_cut_contact)'
         call log_line(line)
       end if
       if (s%fix%on) then

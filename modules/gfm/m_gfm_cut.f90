@@ -78,9 +78,11 @@ module m_gfm_cut
     real(wp), allocatable :: alpha_n(:, :, :, :)  !< (cell, block) fractions of q's states
     real(wp) :: stranded(2) = 0.0_wp              !< mass, energy that found no cell (so far)
     real(wp) :: crossed(2) = 0.0_wp               !< mass, energy in through the sides (so far)
+    real(wp) :: exchanged = 0.0_wp                !< energy in through contacts (so far)
     !> this step's, per block (summed over the blocks by id at the step's end, so that the
     !> totals above are the same on every rank and on any number of ranks):
-    real(wp), allocatable :: side(:, :, :)        !< (mass, energy; stage; block) rates in
+    real(wp), allocatable :: side(:, :, :)        !< (mass, energy through the sides, energy
+                                                  !< through contacts; stage; block) rates in
     real(wp), allocatable :: out(:, :)            !< (crossed out: mass, energy; stranded:
                                                   !< mass, energy; closing: cells, heat;
                                                   !< held cells; block) by the cell rules

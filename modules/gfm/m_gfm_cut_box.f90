@@ -9,9 +9,9 @@
 !> (Here too the tiles' boxes in which m_gfm_stage computes a phase with a surface:
 !> near_boxes.)
 !> Of the dry cells beyond the box, the passes write the phase's variables in q only where
-!> something may read them (near the box: a box grown by a reach); deep in a block's dry part q keeps
-!> its state, which the ghost fill or the rest state makes again before anything reads it
-!> (m_gfm_cut's cut_open).
+!> something may read them (near the box: a box grown by a reach); deep in a block's dry
+!> part q keeps its state, which the ghost fill or the rest state makes again before anything
+!> reads it (m_gfm_cut's cut_open).
 module m_gfm_cut_box
   use m_kinds, only: wp
   implicit none

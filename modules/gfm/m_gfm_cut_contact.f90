@@ -15,11 +15,12 @@
 !>   P* = (Z2 P1 + Z1 P2 + Z1 Z2 (u1.n - u2.n)) / (Z1 + Z2),
 !>   u* = (Z1 u1.n + Z2 u2.n + P1 - P2) / (Z1 + Z2).
 !> Phase 1's content rate takes -P* s (momentum) and -P* u* |s| (energy), phase 2's the
-!> opposite. A contact in tension (P* <= 0) exchanges nothing: the two separate, each with a
+!> opposite (the energy rate, times the cells' volumes, is the budget's exchange term). A
+!> contact in tension (P* <= 0) exchanges nothing: the two separate, each with a
 !> free surface. Frictionless: no tangential traction.
 module m_gfm_cut_contact
   use m_kinds, only: wp
-  use m_layout, only: layout_t
+  use m_layout, only: layout_t, cell_volume
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_solid, stress_index
   use m_eos, only: eos_t, eos_sound_speed2
   use m_elastoplastic, only: primitive_row
@@ -32,10 +33,10 @@ contains
 
   !> The exchange between phases 1 and 2 (their variables q1, q2 and rates r1, r2 over the
   !> padded block; geometry f1, f2 of this stage) in the cells of box (interior) wet by
-  !> both. cells: how many exchanged (P* > 0); work: the energy rate phase 1 gave (times the
-  !> cell volume, for the budget).
+  !> both. cells: how many exchanged (P* > 0); given: the energy rate phase 1 gave phase 2
+  !> (times the cells' volumes, for the budget).
   subroutine cut_contact(lay, offset, box, eos1, eos2, shear1, shear2, q1, q2, f1, f2, r1, &
-      r2, cells)
+      r2, cells, given)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: offset(3), box(2, 3)
     type(eos_t), intent(in) :: eos1, eos2
@@ -45,8 +46,10 @@ contains
     type(cut_faces_t), intent(in) :: f1, f2
     real(wp), intent(inout) :: r1(:, :, :, :), r2(:, :, :, :)
     integer, intent(inout) :: cells
+    real(wp), intent(out) :: given
     integer :: i, j, k, d
     real(wp) :: s1(3), s2(3), s(3), area, nrm(3), u1(3), u2(3), p1, p2, z1, z2, ps, us
+    given = 0.0_wp
     do k = box(1, 3), box(2, 3)
       do j = box(1, 2), box(2, 2)
         do i = box(1, 1), box(2, 1)
@@ -70,6 +73,7 @@ contains
           end do
           r1(i, j, k, i_en) = r1(i, j, k, i_en) - ps * us * area
           r2(i, j, k, i_en) = r2(i, j, k, i_en) + ps * us * area
+          given = given + ps * us * area * cell_volume(lay, offset, i)
           cells = cells + 1
         end do
       end do

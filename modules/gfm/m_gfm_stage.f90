@@ -76,7 +76,7 @@ contains
         ! this step's budget per block (a step that is redone starts it again)
         do k = 1, size(cut)
           if (allocated(cut(k)%side)) deallocate(cut(k)%side, cut(k)%out)
-          allocate(cut(k)%side(2, 3, size(blocks)), cut(k)%out(7, size(blocks)))
+          allocate(cut(k)%side(3, 3, size(blocks)), cut(k)%out(7, size(blocks)))
           cut(k)%side = 0.0_wp
           cut(k)%out = 0.0_wp
         end do
@@ -221,7 +221,7 @@ contains
         call euler_rhs(blk%lay, ph%eos(p), ph%st(p), num, blk%q(:, :, :, ph%lo(p):ph%hi(p)), &
           blk%rhs(:, :, :, ph%lo(p):ph%hi(p)), blk%offset, wall, vwall, work, nf, failed, &
           wet, trouble, cut%faces(b), reshape(box, [2, 3, 1]))
-        cut%side(:, stage, b) = cut%side(:, stage, b) + work%bflux
+        cut%side(1:2, stage, b) = cut%side(1:2, stage, b) + work%bflux
         ! with the last cut phase's rate: the contacts between every pair of cut phases
         if (p == cuts(size(cuts))%p) call contacts()
         return
@@ -244,6 +244,7 @@ contains
     !> whose rates both computed.
     subroutine contacts()
       integer :: k1, k2, p1, p2, both(2, 3)
+      real(wp) :: given   !< the energy rate the first phase gave the second (times volume)
       do k1 = 1, size(cuts) - 1
         do k2 = k1 + 1, size(cuts)
           both(1, :) = max(cuts(k1)%rate_box(1, :, b), cuts(k2)%rate_box(1, :, b))
@@ -255,7 +256,9 @@ contains
             ph%shear(p2), blk%q(:, :, :, ph%lo(p1):ph%hi(p1)), &
             blk%q(:, :, :, ph%lo(p2):ph%hi(p2)), cuts(k1)%faces(b), cuts(k2)%faces(b), &
             blk%rhs(:, :, :, ph%lo(p1):ph%hi(p1)), blk%rhs(:, :, :, ph%lo(p2):ph%hi(p2)), &
-            cuts(k1)%contacts)
+            cuts(k1)%contacts, given)
+          cuts(k1)%side(3, stage, b) = cuts(k1)%side(3, stage, b) - given
+          cuts(k2)%side(3, stage, b) = cuts(k2)%side(3, stage, b) + given
         end do
       end do
     end subroutine contacts
@@ -360,7 +363,7 @@ contains
     real(wp), allocatable :: share(:, :, :)   !< content over state: the wet part
     real(wp), allocatable :: step(:, :)       !< this step's budget terms per block
     real(wp) :: w(3)                          !< the stages' weights
-    real(wp) :: total(7)
+    real(wp) :: total(8)
     integer :: b, p, m, lo(3), hi(3), n(3), v0, box(2, 3), k, kbox(2, 3)
     logical :: body_moved, followed   !< a material body's level set moved (cut_follow_body)
     logical :: kmoved
@@ -498,11 +501,20 @@ contains
         end do
       end associate
     end do
-    ! the rest state beyond every phase (after every cut phase's content is states)
+    ! the rest state beyond every phase (after every cut phase's content is states); with
+    ! contacts, first the bodies' level sets moved apart where they overlap (m_levelset_bodies'
+    ! ls_separate, to their mid-surface): the contents stay, only the surfaces move, and the
+    ! next step makes the geometry again
     do b = 1, size(blocks)
       if (gf%dormant(b) .or. .not. final) cycle
-      call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
-      call gfm_rest(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work)
+      associate (blk => blocks(b))
+        if (size(cuts) > 1) then
+          call ls_separate(ls, blk%q(1:blk%n(1), 1:blk%n(2), 1:blk%n(3), ph%ils + 1:ph%nvar))
+          body_moved = .true.
+        end if
+        call gf_fit(gf, blk%lay, ph%nflow, ph%nphase)
+        call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
+      end associate
     end do
     if (.not. final) then
       failed = failed .or. bad
@@ -516,14 +528,16 @@ contains
     body_moved = comm_any(body_moved)
     ! what came in through the domain's sides in this step (the stages' weights) and what
     ! the cell rules sent out or stranded, summed over the blocks in the order of their ids
-    allocate(step(7, size(blocks)))
+    allocate(step(8, size(blocks)))
     w = rk_weights(order)
     do k = 1, size(cuts)
       associate (cut => cuts(k))
         cut%kept = .not. gf%dormant .and. .not. any(ls%kind == ls_void) .and. .not. body_moved
         do b = 1, size(blocks)
-          step(1:2, b) = dt * (cut%side(:, 1, b) * w(1) + cut%side(:, 2, b) * w(2) &
-            + cut%side(:, 3, b) * w(3)) + cut%out(1:2, b)
+          step(1:3, b) = dt * (cut%side(:, 1, b) * w(1) + cut%side(:, 2, b) * w(2) &
+            + cut%side(:, 3, b) * w(3))
+          step(1:2, b) = step(1:2, b) + cut%out(1:2, b)
+          step(8, b) = step(3, b)
           step(3:7, b) = cut%out(3:7, b)
         end do
         total = comm_sum_by_key(step, [(blocks(b)%id, b = 1, size(blocks))], lay%nblocks)
@@ -531,6 +545,7 @@ contains
         cut%stranded = cut%stranded + total(3:4)
         cut%closing = cut%closing + total(5:6)
         cut%held = cut%held + total(7)
+        cut%exchanged = cut%exchanged + total(8)
       end associate
     end do
 

@@ -391,8 +391,9 @@ contains
   !> cells of block b that changed since the last exchange (low, high corner; empty when a
   !> low corner lies above its high one), and each local piece takes, variables first..nvar,
   !> the part of its source box that lies in its source block's box; touched(:, :, b): the
-  !> smallest box (over block b's padded cells) of what block b took (empty: none). The rest of every halo holds what it held, which the whole exchange would give it
-  !> again; only pieces between blocks of this rank (the caller exchanges everything when
+  !> smallest box (over block b's padded cells) of what block b took (empty: none). The rest
+  !> of every halo holds what it held, which the whole exchange would give it again; only
+  !> pieces between blocks of this rank (the caller exchanges everything when
   !> any block takes a message). A block b with skip(b) set takes none.
   subroutine halo_refresh_boxes(plan, blocks, box, nvar, first, skip, touched)
     type(halo_plan_t), intent(in) :: plan
