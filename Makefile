@@ -50,7 +50,7 @@ MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_text core/m_signals
   levelset/m_levelset_cut scene/m_scene_generate scene/m_scene_grains scene/m_scene_field scene/m_scene numerics/m_flux numerics/m_elastoplastic \
   numerics/m_runge_kutta numerics/m_euler_faces numerics/m_euler numerics/m_fallback gfm/m_gfm_probe gfm/m_gfm_stress gfm/m_gfm_mvi \
   gfm/m_gfm_mri gfm/m_gfm_mmi gfm/m_gfm gfm/m_gfm_conserve \
-  gfm/m_gfm_cut_work gfm/m_gfm_cut_box gfm/m_gfm_cut_cells gfm/m_gfm_cut_close gfm/m_gfm_cut_geometry gfm/m_gfm_cut gfm/m_gfm_cut_budget gfm/m_gfm_cut_contact gfm/m_gfm_stage gfm/m_phase_heat strength/m_material_library numerics/m_numerics_defaults \
+  gfm/m_gfm_cut_work gfm/m_gfm_cut_box gfm/m_gfm_cut_cells gfm/m_gfm_cut_close gfm/m_gfm_cut_geometry gfm/m_gfm_cut gfm/m_gfm_cut_setup gfm/m_gfm_cut_budget gfm/m_gfm_cut_contact gfm/m_gfm_stage gfm/m_phase_heat strength/m_material_library numerics/m_numerics_defaults \
   io/m_deck_parse io/m_deck_schema io/m_plot_fields io/m_deck_check io/m_deck io/m_history \
   io/m_hdf5_file io/m_hdf5_attr io/m_hdf5_io io/m_xdmf io/m_json
 DRIVER := m_hotspot m_memory m_simulation m_output m_checkpoint m_schedule m_run_report m_run_log \

@@ -26,7 +26,7 @@ module m_checkpoint
 contains
 
   !> The prefix of cut phase k's fields and attributes in a checkpoint: cut for the first,
-  !> cut<k> for each after it (m_gfm_cut's cut_setup: one for each cut phase).
+  !> cut<k> for each after it (m_gfm_cut_setup: one for each cut phase).
   pure function cut_prefix(k) result(pre)
     integer, intent(in) :: k
     character(len=16) :: pre

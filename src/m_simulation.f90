@@ -23,7 +23,8 @@ module m_simulation
   use m_phases, only: phases_t
   use m_fallback, only: counters_t
   use m_gfm_conserve, only: fix_t, fix_setup
-  use m_gfm_cut, only: cut_t, cut_setup
+  use m_gfm_cut, only: cut_t
+  use m_gfm_cut_setup, only: cut_setup
   use m_reconstruct, only: scheme_from_name, stencil_reach
   use m_characteristic, only: variables_from_name
   use m_flux, only: flux_from_name, scalar_flux_from_name
@@ -84,9 +85,7 @@ module m_simulation
     type(made_t), allocatable :: made(:)   !< what the generators made of each body (m_scene)
     type(gf_t) :: gf                   !< the ghost-fluid state (m_gfm)
     type(fix_t) :: fix                 !< the conservation fix (m_gfm_conserve)
-    !> the conservative cut-cell update (m_gfm_cut), one for each cut phase (cut(1) alone,
-    !> off, without it; cut(1)%on: whether it is on)
-    type(cut_t), allocatable :: cut(:)
+    type(cut_t), allocatable :: cut(:)  !< cut-cell update, one per cut phase (m_gfm_cut_setup)
     type(counters_t) :: diag           !< what the step had to do, and its cost (m_fallback)
     type(work_t) :: wk
     type(timers_t) :: timers

@@ -19,7 +19,7 @@ module m_gfm_stage
   use m_scene, only: rigid_bodies_move, made_t
   use m_gfm, only: gf_t, gf_fit, gfm_fill, gfm_rest, gfm_drop_debris, gfm_dormant
   use m_gfm_conserve, only: fix_t
-  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_near
+  use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_near, cut_put_boxes
   use m_gfm_cut_budget, only: cut_strand, cut_scalars
   use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty, near_boxes
   use m_gfm_cut_close, only: cut_follow, cut_follow_body
@@ -56,7 +56,7 @@ contains
   subroutine ghost_fluid_fill(gf, cut, ls, ph, plan, lay, bc, bodies, made, blocks, t, stage, &
       dt, thermal, failed)
     type(gf_t), intent(inout) :: gf
-    type(cut_t), intent(inout) :: cut(:)   !< one for each cut phase (m_gfm_cut's cut_setup)
+    type(cut_t), intent(inout) :: cut(:)   !< one for each cut phase (m_gfm_cut_setup)
     type(ls_set_t), intent(in) :: ls
     type(phases_t), intent(in) :: ph
     type(halo_plan_t), intent(inout) :: plan
@@ -132,7 +132,7 @@ contains
       if (comm_any(any(plan%remote))) then
         call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_flow, t, gf%dormant)
       else
-        call refresh_ghosts(plan, lay, bc, blocks, ph, put_boxes(cut, size(blocks)), t, &
+        call refresh_ghosts(plan, lay, bc, blocks, ph, cut_put_boxes(cut, size(blocks)), t, &
           gf%dormant)
       end if
     end subroutine states_halo
@@ -314,20 +314,6 @@ contains
       if (ls%n > 0) call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
     end associate
   end subroutine phase_corrections
-
-  !> Each block's box of the cells whose states the last open put (cut_t's put_box), over
-  !> every cut phase.
-  pure function put_boxes(cut, nb) result(box)
-    type(cut_t), intent(in) :: cut(:)
-    integer, intent(in) :: nb
-    integer :: box(2, 3, nb), b, k
-    do b = 1, nb
-      box(:, :, b) = cut(1)%put_box(:, :, b)
-      do k = 2, size(cut)
-        box(:, :, b) = box_union(box(:, :, b), cut(k)%put_box(:, :, b))
-      end do
-    end do
-  end function put_boxes
 
   !> The cut-cell phase's content and states (m_gfm_cut; nothing to do without one), on
   !> every awake block, by mode:
