@@ -51,6 +51,11 @@ module m_gfm_cut
   !> the next open's box lies within a cell of these; one cell more as a margin
   integer, parameter :: near_reach = 2
 
+  !> a debtor of a small-cell group keeps this part of its fraction's mass at the rest
+  !> density when the group repays it (cut_open), so that it takes the group's state and is
+  !> not left showing its step-start state
+  real(wp), parameter :: debt_trace = 1.0e-3_wp
+
   !> A block's fractions over the padded block less its outer layer (for the mixing).
   type :: fraction_t
     real(wp), allocatable :: a(:, :, :)
@@ -277,7 +282,11 @@ contains
       end if
       ! the fractions the groups are formed by: a wet cell whose content fills less of it
       ! than its fraction says (a surface the level set has moved ahead of the material, as
-      ! where a void closes) counts by its content, at the phase's rest density
+      ! where a void closes) counts by its content, at the phase's rest density; a wet cell
+      ! whose fluxes drew out more mass than it held (a debt) counts as the smallest of
+      ! small cells, so that it joins a group and the group repays it (below): alone, it
+      ! would show its step-start state at every stage while the fluxes went on drawing
+      ! from it (the frozen cell of interfaces.md 2d)
       call fit_work(cut%work%filled, [1, 1, 1], shape(alpha_e))
       associate (filled => cut%work%filled)
         do kk = 1, size(alpha_e, 3)
@@ -285,7 +294,9 @@ contains
             do ii = 1, size(alpha_e, 1)
               filled(ii, jj, kk) = alpha_e(ii, jj, kk)
               if (alpha_e(ii, jj, kk) > 0.0_wp) filled(ii, jj, kk) = min(alpha_e(ii, jj, kk), &
-                max(cq(ii - e(1), jj - e(2), kk - e(3), i_rho), 0.0_wp) / ph%rest(1, cut%p))
+                max(cq(ii - e(1), jj - e(2), kk - e(3), i_rho) / ph%rest(1, cut%p), &
+                merge(tiny(1.0_wp), 0.0_wp, cq(ii - e(1), jj - e(2), kk - e(3), i_rho) &
+                < 0.0_wp)))
             end do
           end do
         end do
@@ -335,10 +346,13 @@ contains
                 if (least > 0.0_wp) then
                   ! every member keeps its mass and takes the group's state per mass
                   cut%c(ii, jj, kk, 1:nf, b) = cq(ii, jj, kk, i_rho) * sum_c / sum_c(i_rho)
-                else
-                  ! a member has lost more mass than it held: the group's content shared by
-                  ! the members' fractions
-                  cut%c(ii, jj, kk, 1:nf, b) = alpha(ii, jj, kk) * sum_c / sum_a
+                else if (sum_c(i_rho) > 0.0_wp) then
+                  ! a member has lost more mass than it held (a debt): the others repay it
+                  ! in proportion to the mass they hold, the debtor keeps a trace (debt_trace
+                  ! of its fraction's mass at the rest density), and every member takes the
+                  ! group's state per mass (sum_a: the members' weights, group_sum)
+                  cut%c(ii, jj, kk, 1:nf, b) = sum_c * (max(cq(ii, jj, kk, i_rho), 0.0_wp) &
+                    + debt_trace * alpha(ii, jj, kk) * ph%rest(1, cut%p)) / sum_a
                 end if
               end if
             end do
@@ -412,8 +426,9 @@ contains
       on_open_side = on_open(blk%lay, blk%offset, open_side, c0)
     end function on_open_side
 
-    !> The content (times volume) and wet volume of the group of root c0: c0 and the
-    !> neighbours that joined it (faces first, then edges and corners).
+    !> The content (times volume) of the group of root c0: c0 and the neighbours that joined
+    !> it (faces first, then edges and corners); sa the members' weights for repaying a debt,
+    !> sum of (max(mass content, 0) + debt_trace alpha rho_rest) V.
     subroutine group_sum(cq, c0, sc, sa, least)
       real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
       integer, intent(in) :: c0(3)
@@ -421,16 +436,24 @@ contains
       real(wp), intent(out) :: least   !< the smallest mass content of a member
       integer :: nb(3, 26), l, nl
       sc = cq(c0(1), c0(2), c0(3), :) * vol(c0(1))
-      sa = alpha(c0(1), c0(2), c0(3)) * vol(c0(1))
+      sa = weight(cq, c0)
       least = cq(c0(1), c0(2), c0(3), i_rho)
       call ring(blk%lay%ndim, c0, nb, nl)
       do l = 1, nl
         if (.not. all(cut%work%root(:, nb(1, l), nb(2, l), nb(3, l)) == c0)) cycle
         sc = sc + cq(nb(1, l), nb(2, l), nb(3, l), :) * vol(nb(1, l))
-        sa = sa + alpha(nb(1, l), nb(2, l), nb(3, l)) * vol(nb(1, l))
+        sa = sa + weight(cq, nb(:, l))
         least = min(least, cq(nb(1, l), nb(2, l), nb(3, l), i_rho))
       end do
     end subroutine group_sum
+
+    !> a member's weight in repaying its group's debt (group_sum)
+    real(wp) function weight(cq, c1)
+      real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
+      integer, intent(in) :: c1(3)
+      weight = (max(cq(c1(1), c1(2), c1(3), i_rho), 0.0_wp) &
+        + debt_trace * alpha(c1(1), c1(2), c1(3)) * ph%rest(1, cut%p)) * vol(c1(1))
+    end function weight
 
     logical function admissible(u)
       real(wp), intent(in) :: u(:)

@@ -71,7 +71,7 @@ contains
     real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
     real(wp), intent(in) :: small
     integer, allocatable, intent(inout) :: root(:, :, :, :)   !< (kept from call to call)
-    integer :: w(3), i, j, k, best(3)
+    integer :: w(3), i, j, k, best(3), top(3)
     w = min(e, 2)
     ! one more layer than w, so that a neighbour's root can be looked at
     call fit_work(root, [1, -w(1), -w(2), -w(3)], [3, n(1)+w(1)+1, n(2)+w(2)+1, n(3)+w(3)+1])
@@ -91,6 +91,67 @@ contains
         end do
       end do
     end do
+    ! a small cell with no cell to join in its ring (a sheet of small cells, thinner than a
+    ! cell), or in debt, joins its ring neighbour of highest rank (fraction, then place)
+    ! where that one outranks its own ring: a root of small cells, which joins nobody (every
+    ! cell of its ring is smaller). A block decides it alike for every cell whose group its
+    ! interior reads: a cell of the second halo layer joins a root of the first only if that
+    ! root's ring lies within alpha_e.
+    do k = 1 - w(3), n(3) + w(3)
+      do j = 1 - w(2), n(2) + w(2)
+        do i = 1 - w(1), n(1) + w(1)
+          if (.not. (alpha_e(i, j, k) > 0.0_wp .and. alpha_e(i, j, k) < small)) cycle
+          if (.not. all(root(:, i, j, k) == [i, j, k])) cycle
+          if (.not. in_domain(lay, offset, [i, j, k])) cycle
+          best = top_of_ring([i, j, k])
+          if (best(1) == huge(1)) cycle
+          if (.not. alpha_e(best(1), best(2), best(3)) > tiny(1.0_wp)) cycle
+          if (any(best(1:lay%ndim) - 1 < 1 - e(1:lay%ndim) &
+            .or. best(1:lay%ndim) + 1 > n(1:lay%ndim) + e(1:lay%ndim))) cycle
+          top = top_of_ring(best)
+          if (top(1) == huge(1)) cycle
+          if (outranks(best, top)) root(:, i, j, k) = best
+        end do
+      end do
+    end do
+
+  contains
+
+    !> the wet ring neighbour of c inside the domain and within alpha_e of highest rank;
+    !> huge(1) when none
+    function top_of_ring(c) result(t)
+      integer, intent(in) :: c(3)
+      integer :: t(3), nb(3, 26), l, nl
+      call ring(lay%ndim, c, nb, nl)
+      t = huge(1)
+      do l = 1, nl
+        if (any(nb(:, l) < 1 - e .or. nb(:, l) > n + e)) cycle
+        if (.not. in_domain(lay, offset, nb(:, l))) cycle
+        if (.not. alpha_e(nb(1, l), nb(2, l), nb(3, l)) > 0.0_wp) cycle
+        if (t(1) == huge(1)) then
+          t = nb(:, l)
+        else if (outranks(nb(:, l), t)) then
+          t = nb(:, l)
+        end if
+      end do
+    end function top_of_ring
+
+    !> whether cell a ranks above cell b: a larger fraction, or the same and a later place in
+    !> the whole grid (z, then y, then x), so that every block ranks cells alike
+    logical function outranks(a, b)
+      integer, intent(in) :: a(3), b(3)
+      integer :: ga(3), gb(3), d
+      outranks = alpha_e(a(1), a(2), a(3)) > alpha_e(b(1), b(2), b(3))
+      if (outranks .or. alpha_e(a(1), a(2), a(3)) < alpha_e(b(1), b(2), b(3))) return
+      ga = a + offset
+      gb = b + offset
+      outranks = .false.
+      do d = 3, 1, -1
+        if (ga(d) == gb(d)) cycle
+        outranks = ga(d) > gb(d)
+        return
+      end do
+    end function outranks
   end subroutine group_roots
 
 

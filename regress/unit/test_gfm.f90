@@ -13,11 +13,15 @@
 !> what the coefficients say (1e-12), with velocity and specific stress unchanged; (5) a
 !> void's level set following the content (m_gfm_cut_close's cut_follow, theory.md 7c-7d): a
 !> cut cell whose centre lies in the void is made the material's (phi = 0.01 h) when its
-!> content fills it at its state's density, and only moved towards its content when not.
+!> content fills it at its state's density, and only moved towards its content when not;
+!> (6) the cut-cell update's small-cell groups (m_gfm_cut_cells' group_roots): a cell in
+!> debt joins a neighbour that is not small, a sheet of small cells joins its highest cell,
+!> and two blocks that share a side form every group their interiors read as one block over
+!> the whole field does.
 program test_gfm
   use m_kinds, only: wp
   use m_comm, only: comm_init
-  use m_test_check, only: check_start, check, check_done
+  use m_test_check, only: check_start, check, check_done, int_text
   use m_gfm_probe, only: probe_trilinear, probe_least_squares
   use m_gfm_mvi, only: gfm_mvi
   use m_gfm_mri, only: gfm_mri
@@ -27,6 +31,7 @@ program test_gfm
   use m_blocks, only: block_t
   use m_levelset_bodies, only: ls_set_t, ls_void
   use m_gfm_cut_close, only: cut_follow
+  use m_gfm_cut_cells, only: group_roots, ring
   implicit none
   call comm_init()
   call check_start('test_gfm', show_passes=.true.)
@@ -36,6 +41,7 @@ program test_gfm
   call check_classes(3)
   call check_conserve()
   call check_follow()
+  call check_groups()
   call check_done()
 
 contains
@@ -78,6 +84,73 @@ contains
     call check('follow: full cells of the material far from the void untouched', &
       abs(blk%q(1, 1, 1, ils + 1) - 3.0_wp * h) < 1.0e-12_wp * h)
   end subroutine check_follow
+
+  !> The small-cell groups on a 16 x 8 field of fractions with sheets of small cells, cells
+  !> that are not small, empty cells and cells in debt (fraction tiny, as m_gfm_cut marks
+  !> them): in one block over the whole field, then in two blocks of 8 x 8 side by side
+  !> (halo of 3 cells of fractions, as the update has); for each interior cell of each half
+  !> its root and every ring neighbour's membership of that root are the whole field's.
+  subroutine check_groups()
+    integer, parameter :: nx = 16, ny = 8, e = 3
+    type(layout_t) :: lay
+    real(wp) :: f(1-e:nx+e, 1-e:ny+e, 1)
+    integer, allocatable :: rg(:, :, :, :), rh(:, :, :, :)
+    integer :: i, j, h, o, r(3), nb(3, 26), nl, l, bad
+    call layout_init(lay, 2, [nx, ny, 1], [8, 8, 1], [0.0_wp, 0.0_wp, 0.0_wp], &
+      [1.0_wp, 0.5_wp, 1.0_wp], [.false., .false., .false.], .false.)
+    f = 0.0_wp
+    do j = 1, ny
+      do i = 1, nx
+        ! diagonal sheets of small cells (0.05 .. 0.45), a block of cells that are not small
+        if (mod(i + j, 5) == 0) f(i, j, 1) = 0.05_wp + 0.4_wp * real(mod(7 * i + 3 * j, 11), wp) &
+          / 10.0_wp
+        if (mod(i + j, 5) == 1 .and. mod(i, 3) == 0) f(i, j, 1) = 0.2_wp
+        if (i >= 12 .and. j <= 3) f(i, j, 1) = 0.8_wp
+      end do
+    end do
+    f(11, 2, 1) = tiny(1.0_wp)     ! in debt beside the cells that are not small
+    f(4, 2, 1) = tiny(1.0_wp)      ! in debt in a sheet
+    f(8, 6, 1) = tiny(1.0_wp)      ! in debt on the blocks' shared side
+    f(9, 6, 1) = 0.45_wp     ! the highest of its ring
+    ! the whole field
+    call group_roots(lay, [0, 0, 0], [nx, ny, 1], [e, e, 0], f, 0.5_wp, rg)
+    call check('groups: a cell in debt joins its neighbour that is not small', &
+      all(rg(:, 11, 2, 1) == [12, 2, 1]))
+    r = rg(:, 4, 2, 1)
+    call check('groups: a cell in debt in a sheet of small cells joins the sheet''s root', &
+      .not. all(r == [4, 2, 1]) .and. f(r(1), r(2), 1) > 0.0_wp)
+    call check('groups: the root of small cells is no member', all(rg(:, r(1), r(2), 1) == r))
+    call check('groups: a cell in debt on the shared side joins the highest cell beside it', &
+      all(rg(:, 8, 6, 1) == [9, 6, 1]))
+    call check('groups: small cells join the highest of their ring (faces and corners)', &
+      all(rg(:, 9, 7, 1) == [9, 6, 1]) .and. all(rg(:, 2, 8, 1) == [3, 7, 1]) .and. &
+      all(rg(:, 5, 5, 1) == [6, 4, 1]) .and. all(rg(:, 3, 7, 1) == [3, 7, 1]))
+    ! the two halves
+    bad = 0
+    do h = 0, 1
+      o = 8 * h
+      call group_roots(lay, [o, 0, 0], [8, ny, 1], [e, e, 0], &
+        f(o + 1 - e:o + 8 + e, :, :), 0.5_wp, rh)
+      do j = 1, ny
+        do i = 1, 8
+          r = rg(:, o + i, j, 1)
+          if (.not. all(rh(:, i, j, 1) + [o, 0, 0] == r)) bad = bad + 1
+          call ring(2, r, nb, nl)
+          do l = 1, nl
+            if (any(nb(1:2, l) < 1) .or. nb(1, l) > nx .or. nb(2, l) > ny) cycle
+            if (nb(1, l) - o < lbound(rh, 2) .or. nb(1, l) - o > ubound(rh, 2)) then
+              bad = bad + 1
+              cycle
+            end if
+            if (all(rg(:, nb(1, l), nb(2, l), 1) == r) .neqv. &
+              all(rh(:, nb(1, l) - o, nb(2, l), 1) + [o, 0, 0] == r)) bad = bad + 1
+          end do
+        end do
+      end do
+    end do
+    call check('groups: two blocks form every group their interiors read as one block ' // &
+      'does (' // int_text(bad) // ' differences)', bad == 0)
+  end subroutine check_groups
 
   subroutine check_probes(nd)
     integer, intent(in) :: nd
