@@ -214,6 +214,13 @@ contains
         'within 2 cells of a body surface taken out of the body as debris; ', f%gfm(11), &
         ' right-hand sides of a phase on a block it is absent from not computed'
       call log_line(line)
+      if (s%cut(1)%on) then
+        write(line, '(a,i0,a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%debts(1)), i8)), &
+          ' cell-stages of a cut cell in debt (its fluxes drew out more mass than it held) ' &
+          // 'repaid by its small-cell group, ', comm_sum(int(sum(s%cut%debts(2)), i8)), &
+          ' that no group could repay'
+        call log_line(line)
+      end if
       if (size(s%cut) > 1) then
         write(line, '(a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%contacts), i8)), &
           ' cell-stages of a contact between cut phases exchanged traction and work ' // &

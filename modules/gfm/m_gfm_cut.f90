@@ -96,6 +96,9 @@ module m_gfm_cut
     !> cell-stages whose contact with a later cut phase exchanged traction and work (this
     !> rank's, m_gfm_cut_contact)
     integer :: contacts = 0
+    !> cell-stages of a cell in debt (its fluxes drew out more mass than it held) that its
+    !> small-cell group repaid, and that no group could (this rank's; run.log)
+    integer :: debts(2) = 0
     type(cut_work_t) :: work                      !< scratch of the stage's passes (any block)
     !> (2, 3, block) boxes (m_gfm_cut_box) of this stage: the cells beyond which the content
     !> c is zero (boxed: made by cut_update, which scans c0 at a step's first stage), the
@@ -333,6 +336,7 @@ contains
                   cut%out(4, b) = cut%out(4, b) + cq(ii, jj, kk, i_en) * vol(ii)
                 end if
               else if (all(r == [ii, jj, kk]) .and. .not. member(ii, jj, kk)) then
+                if (cq(ii, jj, kk, i_rho) < 0.0_wp) cut%debts(2) = cut%debts(2) + 1
                 if (final .and. alpha(ii, jj, kk) < cut%small &
                   .and. on_open_side([ii, jj, kk])) then
                   ! a small cell alone on an open side: the last of the phase leaving the
@@ -342,6 +346,7 @@ contains
                   cut%c(ii, jj, kk, 1:nf, b) = 0.0_wp
                 end if
               else
+                if (cq(ii, jj, kk, i_rho) < 0.0_wp) cut%debts(1) = cut%debts(1) + 1
                 call group_sum(cq, r, sum_c, sum_a, least)
                 if (least > 0.0_wp) then
                   ! every member keeps its mass and takes the group's state per mass
