@@ -273,7 +273,7 @@ contains
     !> (cut%work%rho) for the cut cells' densities, which are made after q holds states.
     subroutine contents(cq)
       real(wp), intent(in) :: cq(1-blk%lay%ng(1):, 1-blk%lay%ng(2):, 1-blk%lay%ng(3):, :)
-      integer :: ii, jj, kk, r(3), mm, rl(3), rh(3)
+      integer :: ii, jj, kk, r(3), mm, rl(3), rh(3), l
       real(wp) :: sum_c(ph%nflow), sum_a, least
       call fit_work(cut%work%rho, 1 - blk%lay%ng, n + blk%lay%ng)
       ! (full_density reads it within two cells of a cut cell of the box)
@@ -346,8 +346,11 @@ contains
                   cut%c(ii, jj, kk, 1:nf, b) = 0.0_wp
                 end if
               else
-                if (cq(ii, jj, kk, i_rho) < 0.0_wp) cut%debts(1) = cut%debts(1) + 1
                 call group_sum(cq, r, sum_c, sum_a, least)
+                if (cq(ii, jj, kk, i_rho) < 0.0_wp) then
+                  l = merge(1, 2, sum_c(i_rho) > 0.0_wp)
+                  cut%debts(l) = cut%debts(l) + 1
+                end if
                 if (least > 0.0_wp) then
                   ! every member keeps its mass and takes the group's state per mass
                   cut%c(ii, jj, kk, 1:nf, b) = cq(ii, jj, kk, i_rho) * sum_c / sum_c(i_rho)
