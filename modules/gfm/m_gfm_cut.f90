@@ -34,7 +34,7 @@ module m_gfm_cut
   use m_euler, only: cut_faces_t
   use m_runge_kutta, only: rk_blend
   use m_eos, only: eos_pressure, eos_sound_speed2
-  use m_gfm_cut_cells, only: full, full_density, group_roots, ring, on_open
+  use m_gfm_cut_cells, only: full, debt_mark, full_density, group_roots, ring, on_open
   use m_gfm_cut_close, only: relax_closing
   use m_gfm_cut_geometry, only: cut_block_geometry, wet_reach_box
   use m_gfm_cut_work, only: cut_work_t, fit_work
@@ -287,19 +287,22 @@ contains
       ! than its fraction says (a surface the level set has moved ahead of the material, as
       ! where a void closes) counts by its content, at the phase's rest density; a wet cell
       ! whose fluxes drew out more mass than it held (a debt) counts as the smallest of
-      ! small cells, so that it joins a group and the group repays it (below): alone, it
-      ! would show its step-start state at every stage while the fluxes went on drawing
-      ! from it (the frozen cell of interfaces.md 2d)
+      ! small cells (debt_mark), so that it joins a group and the group repays it (below):
+      ! alone, it would show its step-start state at every stage while the fluxes went on
+      ! drawing from it (the frozen cell of interfaces.md 2d)
       call fit_work(cut%work%filled, [1, 1, 1], shape(alpha_e))
       associate (filled => cut%work%filled)
         do kk = 1, size(alpha_e, 3)
           do jj = 1, size(alpha_e, 2)
             do ii = 1, size(alpha_e, 1)
               filled(ii, jj, kk) = alpha_e(ii, jj, kk)
-              if (alpha_e(ii, jj, kk) > 0.0_wp) filled(ii, jj, kk) = min(alpha_e(ii, jj, kk), &
-                max(cq(ii - e(1), jj - e(2), kk - e(3), i_rho) / ph%rest(1, cut%p), &
-                merge(tiny(1.0_wp), 0.0_wp, cq(ii - e(1), jj - e(2), kk - e(3), i_rho) &
-                < 0.0_wp)))
+              if (.not. alpha_e(ii, jj, kk) > 0.0_wp) cycle
+              if (cq(ii - e(1), jj - e(2), kk - e(3), i_rho) < 0.0_wp) then
+                filled(ii, jj, kk) = debt_mark
+              else
+                filled(ii, jj, kk) = min(alpha_e(ii, jj, kk), &
+                  cq(ii - e(1), jj - e(2), kk - e(3), i_rho) / ph%rest(1, cut%p))
+              end if
             end do
           end do
         end do

@@ -12,11 +12,14 @@ module m_gfm_cut_cells
   use m_gfm_cut_work, only: fit_work
   implicit none
   private
-  public :: full, full_density, group_roots, ring, on_open, in_domain, largest_neighbour
-  public :: cut_donate
+  public :: full, debt_mark, full_density, group_roots, ring, on_open, in_domain
+  public :: largest_neighbour, cut_donate
 
   !> a cell's fraction from which it counts as full of its phase
   real(wp), parameter :: full = 1.0_wp - 1.0e-12_wp
+  !> the fraction group_roots is given for a wet cell in debt (its fluxes drew out more mass
+  !> than it held, m_gfm_cut): the smallest of small cells, which joins but is never joined
+  real(wp), parameter :: debt_mark = tiny(1.0_wp)
 
 contains
 
@@ -61,10 +64,11 @@ contains
   !> its face neighbour of largest fraction (the first in -x, +x, -y, +y, -z, +z of equal
   !> ones) when that one is not small, else its edge or corner neighbour of largest
   !> fraction that is not small (a cell in the crook of a surface, whose face neighbours are
-  !> small cells of another group: where two voids' remnants meet), else it stays its own
-  !> root. A group is thus a root and members within one cell of it (any direction), so
-  !> that every block forms it alike from two cells of halo. Cells beyond the domain's sides
-  !> take no part.
+  !> small cells of another group: where two voids' remnants meet), else (a sheet of small
+  !> cells, or a cell in debt, debt_mark) its ring neighbour of highest rank where that one
+  !> outranks its own ring, else it stays its own root. A group is thus a root and members
+  !> within one cell of it (any direction), so that every block forms it alike from two
+  !> cells of halo. Cells beyond the domain's sides take no part.
   subroutine group_roots(lay, offset, n, e, alpha_e, small, root)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: offset(3), n(3), e(3)
@@ -92,7 +96,7 @@ contains
       end do
     end do
     ! a small cell with no cell to join in its ring (a sheet of small cells, thinner than a
-    ! cell), or in debt, joins its ring neighbour of highest rank (fraction, then place)
+    ! cell), or in debt (debt_mark), joins its ring neighbour of highest rank (fraction, then place)
     ! where that one outranks its own ring: a root of small cells, which joins nobody (every
     ! cell of its ring is smaller). A block decides it alike for every cell whose group its
     ! interior reads: a cell of the second halo layer joins a root of the first only if that
@@ -105,7 +109,7 @@ contains
           if (.not. in_domain(lay, offset, [i, j, k])) cycle
           best = top_of_ring([i, j, k])
           if (best(1) == huge(1)) cycle
-          if (.not. alpha_e(best(1), best(2), best(3)) > tiny(1.0_wp)) cycle
+          if (.not. alpha_e(best(1), best(2), best(3)) > debt_mark) cycle
           if (any(best(1:lay%ndim) - 1 < 1 - e(1:lay%ndim) &
             .or. best(1:lay%ndim) + 1 > n(1:lay%ndim) + e(1:lay%ndim))) cycle
           top = top_of_ring(best)

@@ -31,7 +31,7 @@ program test_gfm
   use m_blocks, only: block_t
   use m_levelset_bodies, only: ls_set_t, ls_void
   use m_gfm_cut_close, only: cut_follow
-  use m_gfm_cut_cells, only: group_roots, ring
+  use m_gfm_cut_cells, only: group_roots, ring, debt_mark
   implicit none
   call comm_init()
   call check_start('test_gfm', show_passes=.true.)
@@ -86,7 +86,7 @@ contains
   end subroutine check_follow
 
   !> The small-cell groups on a 16 x 8 field of fractions with sheets of small cells, cells
-  !> that are not small, empty cells and cells in debt (fraction tiny, as m_gfm_cut marks
+  !> that are not small, empty cells and cells in debt (debt_mark, as m_gfm_cut marks
   !> them): in one block over the whole field, then in two blocks of 8 x 8 side by side
   !> (halo of 3 cells of fractions, as the update has); for each interior cell of each half
   !> its root and every ring neighbour's membership of that root are the whole field's.
@@ -108,9 +108,9 @@ contains
         if (i >= 12 .and. j <= 3) f(i, j, 1) = 0.8_wp
       end do
     end do
-    f(11, 2, 1) = tiny(1.0_wp)     ! in debt beside the cells that are not small
-    f(4, 2, 1) = tiny(1.0_wp)      ! in debt in a sheet
-    f(8, 6, 1) = tiny(1.0_wp)      ! in debt on the blocks' shared side
+    f(11, 2, 1) = debt_mark       ! in debt beside the cells that are not small
+    f(4, 2, 1) = debt_mark        ! in debt in a sheet
+    f(8, 6, 1) = debt_mark        ! in debt on the blocks' shared side
     f(9, 6, 1) = 0.45_wp     ! the highest of its ring
     ! the whole field
     call group_roots(lay, [0, 0, 0], [nx, ny, 1], [e, e, 0], f, 0.5_wp, rg)
