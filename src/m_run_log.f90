@@ -220,6 +220,10 @@ contains
           // 'repaid by its small-cell group, ', comm_sum(int(sum(s%cut%debts(2)), i8)), &
           ' that no group could repay'
         call log_line(line)
+        write(line, '(a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%lonely), i8)), &
+          ' cell-stages of a small cell that no group held (a sheet or spray thinner than ' &
+          // 'a cell) mixed with its ring (theory.md 7b)'
+        call log_line(line)
       end if
       if (size(s%cut) > 1) then
         write(line, '(a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%contacts), i8)), &

@@ -34,7 +34,7 @@ module m_gfm_cut
   use m_euler, only: cut_faces_t
   use m_runge_kutta, only: rk_blend
   use m_eos, only: eos_pressure, eos_sound_speed2
-  use m_gfm_cut_cells, only: full, debt_mark, full_density, group_roots, ring, on_open
+  use m_gfm_cut_cells, only: mix_lonely, full, debt_mark, full_density, group_roots, ring, on_open
   use m_gfm_cut_close, only: relax_closing
   use m_gfm_cut_geometry, only: cut_block_geometry, wet_reach_box
   use m_gfm_cut_work, only: cut_work_t, fit_work
@@ -99,6 +99,9 @@ module m_gfm_cut
     !> cell-stages of a cell in debt (its fluxes drew out more mass than it held) that its
     !> small-cell group repaid, and that no group could (this rank's; run.log)
     integer :: debts(2) = 0
+    !> cell-stages of a small cell that no group held, mixed with its ring (this rank's;
+    !> m_gfm_cut_cells' mix_lonely; run.log)
+    integer :: lonely = 0
     type(cut_work_t) :: work                      !< scratch of the stage's passes (any block)
     !> (2, 3, block) boxes (m_gfm_cut_box) of this stage: the cells beyond which the content
     !> c is zero (boxed: made by cut_update, which scans c0 at a step's first stage), the
@@ -370,6 +373,9 @@ contains
           end do
         end do
       end associate
+      ! the small cells that no group holds, mixed with their rings (after the groups)
+      call mix_lonely(blk%lay, blk%offset, e, alpha_e, cut%work%filled, cut%work%root, &
+        cut%small, cq, box, cut%c(:, :, :, :, b), cut%lonely)
     end subroutine contents
 
     real(wp) function alpha(i0, j0, k0)

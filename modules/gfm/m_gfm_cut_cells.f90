@@ -1,8 +1,9 @@
 !> The per-cell rules of the cut-cell update (issue 15, manual/theory.md section 7): where a
 !> cell stands (inside the domain, on an outflow side), which neighbour it joins or gives to
 !> (largest_neighbour, group_roots), the density of the full cells beside it (full_density),
-!> and the exchange of content where cells fill or empty between steps (cut_donate). The
-!> stage update that uses them is m_gfm_cut.
+!> the mixing of small cells that no group holds (mix_lonely), and the exchange of content
+!> where cells fill or empty between steps (cut_donate). The stage update that uses them is
+!> m_gfm_cut.
 module m_gfm_cut_cells
   use m_kinds, only: wp, i8
   use m_layout, only: layout_t, cell_volume
@@ -13,7 +14,7 @@ module m_gfm_cut_cells
   implicit none
   private
   public :: full, debt_mark, full_density, group_roots, ring, on_open, in_domain
-  public :: largest_neighbour, cut_donate
+  public :: largest_neighbour, cut_donate, mix_lonely
 
   !> a cell's fraction from which it counts as full of its phase
   real(wp), parameter :: full = 1.0_wp - 1.0e-12_wp
@@ -158,6 +159,81 @@ contains
     end function outranks
   end subroutine group_roots
 
+
+  !> Small cells that no group holds mixed with their ring (manual/theory.md section 7b). A
+  !> wet cell s is lonely when its group fraction (filled, what group_roots formed the groups
+  !> by) is below small and its root's is too: alone, or in a group of small cells only (a
+  !> sheet or a spray thinner than a cell, where no chain of joins reaches a cell that is not
+  !> small). Its faces' fluxes would act on a fraction too small for the time step. It gives
+  !> each wet ring neighbour t inside the domain, in the manner of Hu, Khoo, Adams and Huang's
+  !> mixing (J. Comput. Phys. 219, 2006), the part a_t / sum(a) (t's share of the material
+  !> volume of s's ring, a = alpha V) of what brings the pair to one state,
+  !> (a_t C_s V_s - a_s C_t V_t) / (a_s + a_t), and t takes it; where t is lonely too the two
+  !> exchanges are added. Each exchange is made from the content as it came (cq over the
+  !> padded block, before the groups) and added to the contents c of the interior cells in
+  !> box (after the groups), so that every block computes a pair alike: it reads s's ring and
+  !> root, within two cells of the block's interior. count: the lonely cells of box.
+  subroutine mix_lonely(lay, offset, e, alpha_e, filled, root, small, cq, box, c, count)
+    type(layout_t), intent(in) :: lay
+    integer, intent(in) :: offset(3), e(3), box(2, 3)
+    real(wp), intent(in) :: alpha_e(1-e(1):, 1-e(2):, 1-e(3):)
+    real(wp), intent(in) :: filled(1-e(1):, 1-e(2):, 1-e(3):)   !< the groups' fractions
+    integer, allocatable, intent(in) :: root(:, :, :, :)        !< group_roots'
+    real(wp), intent(in) :: small
+    real(wp), intent(in) :: cq(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    real(wp), intent(inout) :: c(:, :, :, :)   !< (interior cell, variable) contents
+    integer, intent(inout) :: count
+    integer :: i, j, k, l, nb(3, 26), nl
+    logical :: alone
+    do k = box(1, 3), box(2, 3)
+      do j = box(1, 2), box(2, 2)
+        do i = box(1, 1), box(2, 1)
+          if (.not. alpha_e(i, j, k) > 0.0_wp) cycle
+          alone = lonely([i, j, k])
+          if (alone) count = count + 1
+          call ring(lay%ndim, [i, j, k], nb, nl)
+          do l = 1, nl
+            if (.not. alpha_e(nb(1, l), nb(2, l), nb(3, l)) > 0.0_wp) cycle
+            if (.not. in_domain(lay, offset, nb(:, l))) cycle
+            if (alone) c(i, j, k, :) = c(i, j, k, :) &
+              - given([i, j, k], nb(:, l)) / cell_volume(lay, offset, i)
+            if (lonely(nb(:, l))) c(i, j, k, :) = c(i, j, k, :) &
+              + given(nb(:, l), [i, j, k]) / cell_volume(lay, offset, i)
+          end do
+        end do
+      end do
+    end do
+
+  contains
+
+    logical function lonely(c1)
+      integer, intent(in) :: c1(3)
+      integer :: r(3)
+      lonely = .false.
+      if (.not. (alpha_e(c1(1), c1(2), c1(3)) > 0.0_wp &
+        .and. filled(c1(1), c1(2), c1(3)) < small)) return
+      r = root(:, c1(1), c1(2), c1(3))
+      lonely = filled(r(1), r(2), r(3)) < small
+    end function lonely
+
+    !> what lonely cell s gives its ring neighbour t (content times volume)
+    function given(s, t) result(m)
+      integer, intent(in) :: s(3), t(3)
+      real(wp) :: m(size(cq, 4)), as, at, ring_a
+      integer :: nb2(3, 26), n2, l2
+      call ring(lay%ndim, s, nb2, n2)
+      ring_a = 0.0_wp
+      do l2 = 1, n2
+        if (.not. in_domain(lay, offset, nb2(:, l2))) cycle
+        ring_a = ring_a + alpha_e(nb2(1, l2), nb2(2, l2), nb2(3, l2)) &
+          * cell_volume(lay, offset, nb2(1, l2))
+      end do
+      as = alpha_e(s(1), s(2), s(3)) * cell_volume(lay, offset, s(1))
+      at = alpha_e(t(1), t(2), t(3)) * cell_volume(lay, offset, t(1))
+      m = (at / ring_a) * (at * cq(s(1), s(2), s(3), :) * cell_volume(lay, offset, s(1)) &
+        - as * cq(t(1), t(2), t(3), :) * cell_volume(lay, offset, t(1))) / (as + at)
+    end function given
+  end subroutine mix_lonely
 
   !> The neighbours of cell c within one cell in ndim directions: the 2 ndim face
   !> neighbours first (-x, +x, -y, +y, -z, +z), then the edge and corner ones (x fastest);

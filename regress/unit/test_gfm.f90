@@ -17,7 +17,8 @@
 !> (6) the cut-cell update's small-cell groups (m_gfm_cut_cells' group_roots): a cell in
 !> debt joins a neighbour that is not small, a sheet of small cells joins its highest cell,
 !> and two blocks that share a side form every group their interiors read as one block over
-!> the whole field does.
+!> the whole field does; (7) the mixing of small cells that no group holds (mix_lonely): the
+!> content kept, a lonely cell moved towards its ring, two blocks bit for bit as one.
 program test_gfm
   use m_kinds, only: wp
   use m_comm, only: comm_init
@@ -26,12 +27,12 @@ program test_gfm
   use m_gfm_mvi, only: gfm_mvi
   use m_gfm_mri, only: gfm_mri
   use m_gfm_conserve, only: content_block, fix_block, n_content
-  use m_layout, only: layout_t, layout_init
+  use m_layout, only: layout_t, layout_init, cell_volume
   use m_state, only: n_solid, i_rho, i_mx, i_my, i_en, i_sxx
   use m_blocks, only: block_t
   use m_levelset_bodies, only: ls_set_t, ls_void
   use m_gfm_cut_close, only: cut_follow
-  use m_gfm_cut_cells, only: group_roots, ring, debt_mark
+  use m_gfm_cut_cells, only: group_roots, ring, debt_mark, mix_lonely
   implicit none
   call comm_init()
   call check_start('test_gfm', show_passes=.true.)
@@ -42,6 +43,7 @@ program test_gfm
   call check_conserve()
   call check_follow()
   call check_groups()
+  call check_lonely()
   call check_done()
 
 contains
@@ -98,20 +100,7 @@ contains
     integer :: i, j, h, o, r(3), nb(3, 26), nl, l, bad
     call layout_init(lay, 2, [nx, ny, 1], [8, 8, 1], [0.0_wp, 0.0_wp, 0.0_wp], &
       [1.0_wp, 0.5_wp, 1.0_wp], [.false., .false., .false.], .false.)
-    f = 0.0_wp
-    do j = 1, ny
-      do i = 1, nx
-        ! diagonal sheets of small cells (0.05 .. 0.45), a block of cells that are not small
-        if (mod(i + j, 5) == 0) f(i, j, 1) = 0.05_wp + 0.4_wp * real(mod(7 * i + 3 * j, 11), wp) &
-          / 10.0_wp
-        if (mod(i + j, 5) == 1 .and. mod(i, 3) == 0) f(i, j, 1) = 0.2_wp
-        if (i >= 12 .and. j <= 3) f(i, j, 1) = 0.8_wp
-      end do
-    end do
-    f(11, 2, 1) = debt_mark       ! in debt beside the cells that are not small
-    f(4, 2, 1) = debt_mark        ! in debt in a sheet
-    f(8, 6, 1) = debt_mark        ! in debt on the blocks' shared side
-    f(9, 6, 1) = 0.45_wp     ! the highest of its ring
+    call sheet_field(f)
     ! the whole field
     call group_roots(lay, [0, 0, 0], [nx, ny, 1], [e, e, 0], f, 0.5_wp, rg)
     call check('groups: a cell in debt joins its neighbour that is not small', &
@@ -151,6 +140,90 @@ contains
     call check('groups: two blocks form every group their interiors read as one block ' // &
       'does (' // int_text(bad) // ' differences)', bad == 0)
   end subroutine check_groups
+
+  !> The 16 x 8 field of fractions of check_groups: diagonal sheets of small cells, a patch
+  !> of cells that are not small, cells in debt (debt_mark), zero beyond the domain.
+  subroutine sheet_field(f)
+    real(wp), intent(out) :: f(-2:, -2:, :)
+    integer :: i, j
+    f = 0.0_wp
+    do j = 1, 8
+      do i = 1, 16
+        ! diagonal sheets of small cells (0.05 .. 0.45), a block of cells that are not small
+        if (mod(i + j, 5) == 0) f(i, j, 1) = 0.05_wp + 0.4_wp * real(mod(7 * i + 3 * j, 11), wp) &
+          / 10.0_wp
+        if (mod(i + j, 5) == 1 .and. mod(i, 3) == 0) f(i, j, 1) = 0.2_wp
+        if (i >= 12 .and. j <= 3) f(i, j, 1) = 0.8_wp
+      end do
+    end do
+    f(11, 2, 1) = debt_mark       ! in debt beside the cells that are not small
+    f(4, 2, 1) = debt_mark        ! in debt in a sheet
+    f(8, 6, 1) = debt_mark        ! in debt on the blocks' shared side
+    f(9, 6, 1) = 0.45_wp     ! the highest of its ring
+  end subroutine sheet_field
+
+  !> The mixing of small cells that no group holds (m_gfm_cut_cells' mix_lonely) on
+  !> check_groups' field, axisymmetric (cell volumes grow with r), with a content of two
+  !> variables that differs from cell to cell: the total content times volume is kept (1e-13
+  !> relative); a lonely cell whose content is far from its neighbours' moves towards them;
+  !> two blocks side by side give every interior cell the contents of one block over the
+  !> whole field, bit for bit.
+  subroutine check_lonely()
+    integer, parameter :: nx = 16, ny = 8, e = 3, g = 4
+    type(layout_t) :: lay
+    real(wp) :: f(1-e:nx+e, 1-e:ny+e, 1), cq(1-g:nx+g, 1-g:ny+g, 1, 2), c(nx, ny, 1, 2)
+    real(wp) :: ch(8, ny, 1, 2), before(2), after(2), v
+    integer, allocatable :: rg(:, :, :, :), rh(:, :, :, :)
+    integer :: i, j, h, o, count, bad
+    call layout_init(lay, 2, [nx, ny, 1], [8, 8, 1], [0.0_wp, 0.0_wp, 0.0_wp], &
+      [1.0_wp, 0.5_wp, 1.0_wp], [.false., .false., .false.], .true.)
+    call sheet_field(f)
+    cq = 0.0_wp
+    do j = 1, ny
+      do i = 1, nx
+        if (.not. f(i, j, 1) > 0.0_wp) cycle
+        cq(i, j, 1, 1) = f(i, j, 1) * (1000.0_wp + 100.0_wp * real(mod(5 * i + 2 * j, 7), wp))
+        cq(i, j, 1, 2) = f(i, j, 1) * 1.0e5_wp * real(1 + mod(3 * i + j, 4), wp)
+      end do
+    end do
+    ! a lonely cell of the sheet far from its ring: ten times the content
+    cq(5, 5, 1, :) = 10.0_wp * cq(5, 5, 1, :)
+    call group_roots(lay, [0, 0, 0], [nx, ny, 1], [e, e, 0], f, 0.5_wp, rg)
+    c = cq(1:nx, 1:ny, :, :)
+    count = 0
+    call mix_lonely(lay, [0, 0, 0], [e, e, 0], f, f, rg, 0.5_wp, cq, &
+      reshape([1, 1, 1, nx, ny, 1], [2, 3], order=[2, 1]), c, count)
+    before = 0.0_wp
+    after = 0.0_wp
+    do i = 1, nx
+      v = cell_volume(lay, [0, 0, 0], i)
+      before = before + [sum(cq(i, 1:ny, 1, 1)), sum(cq(i, 1:ny, 1, 2))] * v
+      after = after + [sum(c(i, :, 1, 1)), sum(c(i, :, 1, 2))] * v
+    end do
+    call check('lonely: ' // int_text(count) // ' lonely cells mixed, the content kept', &
+      count > 0 .and. all(abs(after - before) < 1.0e-13_wp * abs(before)))
+    call check('lonely: a lonely cell with ten times its ring''s content gives most away', &
+      c(5, 5, 1, 1) < 0.5_wp * cq(5, 5, 1, 1) .and. c(5, 5, 1, 1) > 0.0_wp)
+    bad = 0
+    do h = 0, 1
+      o = 8 * h
+      call group_roots(lay, [o, 0, 0], [8, ny, 1], [e, e, 0], f(o + 1 - e:o + 8 + e, :, :), &
+        0.5_wp, rh)
+      ch = cq(o + 1:o + 8, 1:ny, :, :)
+      call mix_lonely(lay, [o, 0, 0], [e, e, 0], f(o + 1 - e:o + 8 + e, :, :), &
+        f(o + 1 - e:o + 8 + e, :, :), rh, 0.5_wp, cq(o + 1 - g:o + 8 + g, :, :, :), &
+        reshape([1, 1, 1, 8, ny, 1], [2, 3], order=[2, 1]), ch, count)
+      bad = bad + count_differences(ch, c(o + 1:o + 8, :, :, :))
+    end do
+    call check('lonely: two blocks mix every interior cell as one block does (' // &
+      int_text(bad) // ' differences)', bad == 0)
+  end subroutine check_lonely
+
+  !> the entries of a and b that differ (bit for bit)
+  integer function count_differences(a, b) result(nd)
+    real(wp), intent(in) :: a(:, :, :, :), b(:, :, :, :)
+    nd = count(a < b .or. a > b)
+  end function count_differences
 
   subroutine check_probes(nd)
     integer, intent(in) :: nd
