@@ -172,7 +172,9 @@ contains
   !> exchanges are added. Each exchange is made from the content as it came (cq over the
   !> padded block, before the groups) and added to the contents c of the interior cells in
   !> box (after the groups), so that every block computes a pair alike: it reads s's ring and
-  !> root, within two cells of the block's interior. count: the lonely cells of box.
+  !> root, within two cells of the block's interior. count: the lonely cells of box. Each
+  !> cell's loneliness is decided once, over box and one cell round it; a block with none
+  !> there (most blocks, most stages) walks no ring.
   subroutine mix_lonely(lay, offset, e, alpha_e, filled, root, small, cq, box, c, count)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: offset(3), e(3), box(2, 3)
@@ -183,21 +185,34 @@ contains
     real(wp), intent(in) :: cq(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     real(wp), intent(inout) :: c(:, :, :, :)   !< (interior cell, variable) contents
     integer, intent(inout) :: count
-    integer :: i, j, k, l, nb(3, 26), nl
-    logical :: alone
+    !> (the ring's reach along each direction)
+    integer, parameter :: w(3) = [1, 1, 1]
+    logical :: lone(box(1, 1)-w(1):box(2, 1)+w(1), box(1, 2)-w(2):box(2, 2)+w(2), &
+      box(1, 3)-w(3):box(2, 3)+w(3))
+    integer :: i, j, k, l, nb(3, 26), nl, r(3)
+    r = merge(w, 0, [1, 2, 3] <= lay%ndim)
+    lone = .false.
+    do k = box(1, 3) - r(3), box(2, 3) + r(3)
+      do j = box(1, 2) - r(2), box(2, 2) + r(2)
+        do i = box(1, 1) - r(1), box(2, 1) + r(1)
+          lone(i, j, k) = lonely([i, j, k])
+        end do
+      end do
+    end do
+    if (.not. any(lone)) return
     do k = box(1, 3), box(2, 3)
       do j = box(1, 2), box(2, 2)
         do i = box(1, 1), box(2, 1)
           if (.not. alpha_e(i, j, k) > 0.0_wp) cycle
-          alone = lonely([i, j, k])
-          if (alone) count = count + 1
+          if (.not. any(lone(i-r(1):i+r(1), j-r(2):j+r(2), k-r(3):k+r(3)))) cycle
+          if (lone(i, j, k)) count = count + 1
           call ring(lay%ndim, [i, j, k], nb, nl)
           do l = 1, nl
             if (.not. alpha_e(nb(1, l), nb(2, l), nb(3, l)) > 0.0_wp) cycle
             if (.not. in_domain(lay, offset, nb(:, l))) cycle
-            if (alone) c(i, j, k, :) = c(i, j, k, :) &
+            if (lone(i, j, k)) c(i, j, k, :) = c(i, j, k, :) &
               - given([i, j, k], nb(:, l)) / cell_volume(lay, offset, i)
-            if (lonely(nb(:, l))) c(i, j, k, :) = c(i, j, k, :) &
+            if (lone(nb(1, l), nb(2, l), nb(3, l))) c(i, j, k, :) = c(i, j, k, :) &
               + given(nb(:, l), [i, j, k]) / cell_volume(lay, offset, i)
           end do
         end do
