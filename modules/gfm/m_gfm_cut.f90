@@ -56,6 +56,10 @@ module m_gfm_cut
   !> not left showing its step-start state
   real(wp), parameter :: debt_trace = 1.0e-3_wp
 
+  !> a contact cell's own density (content over fraction) is blended into the one it takes
+  !> where it lies within this part of its neighbours' (reference_density)
+  real(wp), parameter :: contact_own = 0.05_wp
+
   !> A block's fractions over the padded block less its outer layer (for the mixing).
   type :: fraction_t
     real(wp), allocatable :: a(:, :, :)
@@ -153,7 +157,7 @@ contains
   !> state with rho <= 0 or an energy that is not finite. Beyond box (m_gfm_cut_box) every
   !> cell is dry and its content +0 in q and in cut%c: it takes the step start's state.
   subroutine cut_open(cut, b, blk, ph, alpha_e, open_side, final, failed, bigphi, owner, box, &
-      band)
+      band, touch)
     type(cut_t), intent(inout) :: cut
     integer, intent(in) :: b
     type(block_t), intent(inout) :: blk
@@ -166,6 +170,8 @@ contains
     integer, intent(in) :: owner(:, :, :)     !< whose surface (ls_region; 0: a void's)
     integer, intent(in) :: box(2, 3)
     real(wp), intent(in) :: band              !< the ghost band's width (m_gfm)
+    !> (interior cells) another cut phase wets the cell: a contact
+    logical, intent(in) :: touch(:, :, :)
     real(wp), allocatable :: vol(:)
     integer :: kind(blk%n(1), blk%n(2), blk%n(3))
     logical :: member(blk%n(1), blk%n(2), blk%n(3))
@@ -390,16 +396,29 @@ contains
     !> the content's energy per mass gives a real sound speed (a sliver whose level set
     !> encloses much more than its content fills would otherwise be put in deep tension,
     !> c^2 < 0: the foot of the 400 m/s Taylor bar at 28.7 us, 0.62 rho0 at -77 GPa).
+    !> In a contact cell (touch: another cut phase wets it) the first goes over from the
+    !> neighbours' density at fraction `small` to the cell's own content over its fraction
+    !> at 1, where the cell, full, takes its content as it is (contact_own; theory.md 7e):
+    !> the traction of a contact is made from this state, and a full cell beside a moving
+    !> contact is a shocked cell whose compression a neighbour's density would hide until
+    !> it filled, then release at once (the pulse at every cell crossing of
+    !> interfaces.md 2d). Only where its own density is within contact_own of the
+    !> neighbours': beyond that the level set, not the compression, is what differs.
     real(wp) function reference_density(c0, cc0) result(rho)
       integer, intent(in) :: c0(3)
       real(wp), intent(in) :: cc0(:)
-      real(wp) :: cand(4)
+      real(wp) :: cand(4), w
       integer :: l
       cand(1) = full_density(blk%lay, blk%offset, e, alpha_e, cut%work%rho, c0)
       cand(2) = blk%q0(c0(1), c0(2), c0(3), lo + i_rho - 1)
       cand(3) = cc0(i_rho) / alpha(c0(1), c0(2), c0(3))
       cand(4) = ph%rest(1, cut%p)
       rho = cand(3)
+      w = (alpha(c0(1), c0(2), c0(3)) - cut%small) / (1.0_wp - cut%small)
+      if (touch(c0(1), c0(2), c0(3)) .and. w > 0.0_wp .and. cand(1) > 0.0_wp) then
+        if (abs(cand(3) - cand(1)) < contact_own * cand(1)) &
+          cand(1) = (1.0_wp - w) * cand(1) + w * cand(3)
+      end if
       do l = 1, 4
         if (.not. cand(l) > 0.0_wp) cycle
         if (.not. sounds(cand(l), cc0)) cycle

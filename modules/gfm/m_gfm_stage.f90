@@ -345,12 +345,12 @@ contains
     logical :: states, final, bad, open_sides(2, 3)
     logical :: moved(size(blocks))   !< a block whose content some cell gave or took
     integer :: mbox(2, 3, size(blocks))   !< the box of its cells that did (m_gfm_cut_box)
-    logical, allocatable :: isreal(:, :, :), fresh(:, :, :)
+    logical, allocatable :: isreal(:, :, :), fresh(:, :, :), touch(:, :, :)
     real(wp), allocatable :: share(:, :, :)   !< content over state: the wet part
     real(wp), allocatable :: step(:, :)       !< this step's budget terms per block
     real(wp) :: w(3)                          !< the stages' weights
     real(wp) :: total(8)
-    integer :: b, p, m, lo(3), hi(3), n(3), v0, box(2, 3), k, kbox(2, 3)
+    integer :: b, p, m, lo(3), hi(3), n(3), v0, box(2, 3), k, kbox(2, 3), k2
     logical :: body_moved, followed   !< a material body's level set moved (cut_follow_body)
     logical :: kmoved
     if (.not. cuts(1)%on) return
@@ -441,8 +441,12 @@ contains
           end if
           associate (blk => blocks(b), w => gf%work, f => cut%faces(b))
             call phase_region(blk)
+            touch = f%alpha < 0.0_wp   ! (all false, shaped as the block)
+            do k2 = 1, size(cuts)
+              if (k2 /= k) touch = touch .or. cuts(k2)%faces(b)%alpha > 0.0_wp
+            end do
             call cut_open(cut, b, blk, ph, cut%ext(b)%a, open_sides, final, bad, &
-              w%bigphi(:, :, :, p), w%owner(:, :, :, p), cut%box(:, :, b), gf%scn%band)
+              w%bigphi(:, :, :, p), w%owner(:, :, :, p), cut%box(:, :, b), gf%scn%band, touch)
             if (ph%strong(p)) then
               isreal = w%bigphi(1:n(1), 1:n(2), 1:n(3), p) < 0.0_wp
               fresh = isreal .and. .not. cut%alpha_n(1:n(1), 1:n(2), 1:n(3), b) > 0.0_wp
