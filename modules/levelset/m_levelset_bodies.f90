@@ -30,6 +30,9 @@ module m_levelset_bodies
     integer, allocatable :: colour(:)       !< the colour of a body of grains, else 0
     character(len=name_len), allocatable :: name(:)
     real(wp), allocatable :: velocity(:, :) !< (3, n): velocity of a rigid body
+    !> where two material bodies of different phases overlap, each phase's region ends at
+    !> their mid-surface (ls_region; set by the cut-cell update with contacts)
+    logical :: mid_contacts = .false.
   end type ls_set_t
 
 contains
@@ -68,12 +71,38 @@ contains
         end do
       end if
     end do
+    if (set%mid_contacts .and. .not. base) call mid_surfaces()
     do l = 1, set%n
       if (set%kind(l) == ls_material) cycle
       call take_max(l, merge(l, 0, set%kind(l) == ls_rigid))
     end do
 
   contains
+
+    !> where the phase's own level set (bigphi so far) and a material body of another phase
+    !> overlap, the phase ends at their mid-surface, (own - phi_m) / 2, which that body
+    !> owns: the region ls_separate would leave them, taken at every stage, so that two
+    !> phases in a cell meet at one surface (the contact's geometry, m_gfm_cut_contact).
+    !> Where they do not overlap (own + phi_m >= 0) this is not above own: no change.
+    subroutine mid_surfaces()
+      real(wp) :: own, mid
+      integer :: m
+      do k = lo(3), hi(3)
+        do j = lo(2), hi(2)
+          do i = lo(1), hi(1)
+            own = bigphi(i, j, k)
+            do m = 1, set%n
+              if (set%kind(m) /= ls_material .or. set%phase(m) == p) cycle
+              mid = 0.5_wp * (own - phi(i, j, k, m))
+              if (mid > bigphi(i, j, k)) then
+                bigphi(i, j, k) = mid
+                owner(i, j, k) = -m
+              end if
+            end do
+          end do
+        end do
+      end do
+    end subroutine mid_surfaces
 
     !> where -phi_l exceeds bigphi, bigphi = -phi_l and the owner o
     subroutine take_max(l, o)
