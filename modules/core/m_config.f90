@@ -72,7 +72,7 @@ module m_config
     character(len=name_len) :: variables = 'primitive'
     character(len=name_len) :: gfm_probe = 'auto'
     integer :: rk_order = 3, reinit_every = 5, band = 6
-    real(wp) :: cfl = 0.5_wp, dt_max = unset, contact_kappa = 1.0_wp, body_follow = 0.0_wp
+    real(wp) :: cfl = 0.5_wp, dt_max = unset, contact_kappa = 1.0_wp, body_follow = unset
     ! &physics
     logical :: strength = .false., thermal = .false., heat_conduction = .false., reaction = .false.
     ! &material, &body

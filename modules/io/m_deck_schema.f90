@@ -117,8 +117,9 @@ contains
       allowed='>= 4 (the ghost band is 4 cells deep)')
     call t%add('contact_kappa', c%contact_kappa, '1.0', 'closer than 2 kappa dx is contact', &
       allowed='in (0, 3] (bodies closer than 2 kappa dx are in contact)')
-    call t%add('body_follow', c%body_follow, '0.0', 'cut-cell update: a body''s level set ' &
-      // 'follows its content beyond this drift (cells); 0: it does not', &
+    call t%add('body_follow', c%body_follow, '0.05', 'cut-cell update: a body''s level set ' &
+      // 'follows its content beyond this drift (cells); 0: it does not; unset: 0.05 where ' &
+      // 'bodies touch on cut cells, else 0', &
       allowed='in [0, 0.25] (cells; 0: no follow)')
     t%g = 'physics'
     call t%add('strength', c%strength, '.true.', 'strength (left out: when a material needs it)')
