@@ -159,8 +159,6 @@ contains
     ! take sim_plan's whole plan), else by the fix (below)
     call cut_setup(sim%cut, cfg%conserve, cfg%heat_conduction .or. cfg%reaction, &
       cfg%body_follow, sim%lay, sim%ph, sim%ls, sim%blocks)
-    ! (contacts between cut phases meet at one surface: m_levelset_bodies' ls_region)
-    sim%ls%mid_contacts = size(sim%cut) > 1
     call sim_plan(sim)
     sim%bal%threshold = cfg%rebalance_threshold
     sim%bal%every = cfg%rebalance_every

@@ -81,7 +81,7 @@ contains
     real(wp), intent(in) :: body_dead
     type(layout_t), intent(in) :: lay
     type(phases_t), intent(in) :: ph
-    type(ls_set_t), intent(in) :: ls
+    type(ls_set_t), intent(inout) :: ls   !< (its mid_contacts set here)
     type(block_t), intent(in) :: blocks(:)
     integer :: k
     logical :: on
@@ -99,6 +99,8 @@ contains
         size(cuts) > 1)
       if (on) call cut_phase_setup(cuts(k), k, lay, ph, blocks)
     end do
+    ! contacts between cut phases meet at one surface (m_levelset_bodies' ls_region)
+    ls%mid_contacts = size(cuts) > 1
   end subroutine cut_setup
 
   !> The arrays of cut phase p, sized for the blocks of this rank.
