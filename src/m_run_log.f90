@@ -224,6 +224,11 @@ contains
           ' cell-stages of a small cell that no group held (a sheet or spray thinner than ' &
           // 'a cell) mixed with its ring (theory.md 7b)'
         call log_line(line)
+        write(line, '(a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%soundless), i8)), &
+          ' cell-stages of a small cell whose content had a real sound speed at no density ' &
+          // '(kinetic energy beyond its total) showed its step-start state; its content ' &
+          // 'at the step''s end stranded (history.csv stranded_mass, theory.md 7b)'
+        call log_line(line)
       end if
       if (size(s%cut) > 1) then
         write(line, '(a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%contacts), i8)), &

@@ -324,10 +324,14 @@ contains
           call eos_sound_speed2(scn%eos(p), 1, wg(1:1), wg(5:5), c2)
           if (.not. (wg(1) > 0.0_wp .and. c2(1) > 0.0_wp)) then
             counts%limited = counts%limited + 1
-            wg(1) = max(wg(1), wi(1), scn%rest(1, p) * 1.0e-6_wp)
+            wg(1) = max(wg(1), wi(1))
             wg(5) = wi(5)
             call eos_sound_speed2(scn%eos(p), 1, wg(1:1), wg(5:5), c2)
-            if (.not. c2(1) > 0.0_wp) wg(1:5) = [scn%rest(1, p), wg(2:4), scn%rest(2, p)]
+            ! (a density below 1e-3 of the rest density is no state beside a material: with
+            ! the image's pressure its sound speed is without bound, and so are the fluxes of
+            ! a face beside it)
+            if (.not. (c2(1) > 0.0_wp .and. wg(1) > 1.0e-3_wp * scn%rest(1, p))) &
+              wg(1:5) = [scn%rest(1, p), wg(2:4), scn%rest(2, p)]
           end if
           call put_state(scn%eos(p), wg, q(i, j, k, off+1:off+nflow))
         end do

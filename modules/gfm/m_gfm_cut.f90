@@ -33,9 +33,8 @@ module m_gfm_cut
   use m_state, only: i_rho, i_mx, i_mz, i_en
   use m_euler, only: cut_faces_t
   use m_runge_kutta, only: rk_blend
-  use m_eos, only: eos_pressure, eos_sound_speed2
   use m_gfm_cut_cells, only: mix_lonely, full, debt_mark, full_density, group_roots, ring, on_open
-  use m_gfm_cut_close, only: relax_closing
+  use m_gfm_cut_close, only: relax_closing, content_sounds
   use m_gfm_cut_geometry, only: cut_block_geometry, wet_reach_box
   use m_gfm_cut_work, only: cut_work_t, fit_work
   use m_gfm_cut_box, only: box_union, box_nonzero, box_whole, box_empty, stage_content, &
@@ -106,6 +105,8 @@ module m_gfm_cut
     !> cell-stages of a small cell that no group held, mixed with its ring (this rank's;
     !> m_gfm_cut_cells' mix_lonely; run.log)
     integer :: lonely = 0
+    !> cell-stages of a small cell whose content sounds at no density it may take (run.log)
+    integer :: soundless = 0
     type(cut_work_t) :: work                      !< scratch of the stage's passes (any block)
     !> (2, 3, block) boxes (m_gfm_cut_box) of this stage: the cells beyond which the content
     !> c is zero (boxed: made by cut_update, which scans c0 at a step's first stage), the
@@ -176,7 +177,7 @@ contains
     integer :: kind(blk%n(1), blk%n(2), blk%n(3))
     logical :: member(blk%n(1), blk%n(2), blk%n(3))
     integer :: e(3), n(3), g(3), i, j, k, lo, nf, m
-    real(wp) :: cc(ph%nflow), tally(2)
+    real(wp) :: cc(ph%nflow), tally(2), rho
     logical :: relaxed
     lo = ph%lo(cut%p)
     nf = ph%nflow
@@ -218,17 +219,19 @@ contains
           end do
         end do
       end do
-      ! a full cell beside the surface whose content, at its own density, has no real sound
-      ! speed (drained below the density the material beside it has: the level set of a
-      ! material body drifts ahead of its content, theory.md 7c) takes a cut cell's density,
-      ! so that the drift stays a partly filled cell rather than a tension no material holds;
-      ! counted at every stage (history.csv cut_held_cells)
+      ! a full cell beside the surface (or below half the rest density) whose content has
+      ! no real sound speed at its own density (drained: the level set of a material body
+      ! drifts ahead of its content, theory.md 7c) takes a cut cell's density, so that the
+      ! drift stays a partly filled cell rather than a tension no material holds; counted at
+      ! every stage (history.csv cut_held_cells)
       do k = box(1, 3), box(2, 3)
         do j = box(1, 2), box(2, 2)
           do i = box(1, 1), box(2, 1)
             if (kind(i, j, k) /= 1) cycle
-            if (.not. beside_surface([i, j, k])) cycle
-            if (sounds(cut%c(i, j, k, i_rho, b), cut%c(i, j, k, 1:nf, b))) cycle
+            if (.not. beside_surface([i, j, k]) .and. &
+              cut%c(i, j, k, i_rho, b) > 0.5_wp * ph%rest(1, cut%p)) cycle
+            if (content_sounds(ph%eos(cut%p), cut%c(i, j, k, i_rho, b), &
+              cut%c(i, j, k, 1:nf, b))) cycle
             kind(i, j, k) = 2
             if (allocated(cut%out)) cut%out(7, b) = cut%out(7, b) + 1.0_wp
           end do
@@ -262,9 +265,23 @@ contains
           do i = box(1, 1), box(2, 1)
             if (kind(i, j, k) == 2) then
               ! a cut cell (or a drained full cell): its content per mass at the density of
-              ! the material beside it
+              ! the material beside it; a cell small by fraction or content that sounds at no
+              ! density shows its step-start state; at the step's end its content is stranded
               cc = cut%c(i, j, k, 1:nf, b)
-              q(i, j, k, lo:lo + nf - 1) = cc * (reference_density([i, j, k], cc) / cc(i_rho))
+              rho = reference_density([i, j, k], cc)
+              if (rho > 0.0_wp) then
+                q(i, j, k, lo:lo + nf - 1) = cc * (rho / cc(i_rho))
+              else if (min(alpha(i, j, k), cc(i_rho) / ph%rest(1, cut%p)) < cut%small) then
+                cut%soundless = cut%soundless + 1
+                q(i, j, k, lo:lo + nf - 1) = blk%q0(i, j, k, lo:lo + nf - 1)
+                if (final) then
+                  cut%out(3, b) = cut%out(3, b) + cc(i_rho) * vol(i)
+                  cut%out(4, b) = cut%out(4, b) + cc(i_en) * vol(i)
+                  cut%c(i, j, k, 1:nf, b) = 0.0_wp
+                end if
+              else
+                q(i, j, k, lo:lo + nf - 1) = cc * (-rho / cc(i_rho))
+              end if
             end if
             if (kind(i, j, k) > 0) then
               if (.not. admissible(q(i, j, k, lo:lo + nf - 1))) failed = .true.
@@ -311,6 +328,11 @@ contains
               else
                 filled(ii, jj, kk) = min(alpha_e(ii, jj, kk), &
                   cq(ii - e(1), jj - e(2), kk - e(3), i_rho) / ph%rest(1, cut%p))
+                ! a small cell without a sound speed at the rest density: a debtor too
+                if (filled(ii, jj, kk) < cut%small) then
+                  if (.not. content_sounds(ph%eos(cut%p), ph%rest(1, cut%p), &
+                    cq(ii - e(1), jj - e(2), kk - e(3), :))) filled(ii, jj, kk) = debt_mark
+                end if
               end if
             end do
           end do
@@ -350,7 +372,7 @@ contains
               else if (all(r == [ii, jj, kk]) .and. .not. member(ii, jj, kk)) then
                 if (cq(ii, jj, kk, i_rho) < 0.0_wp) cut%debts(2) = cut%debts(2) + 1
                 if (final .and. alpha(ii, jj, kk) < cut%small &
-                  .and. on_open_side([ii, jj, kk])) then
+                  .and. on_open(blk%lay, blk%offset, open_side, [ii, jj, kk])) then
                   ! a small cell alone on an open side: the last of the phase leaving the
                   ! domain; what it holds goes out through the side (counted)
                   cut%out(1, b) = cut%out(1, b) - cq(ii, jj, kk, i_rho) * vol(ii)
@@ -404,6 +426,7 @@ contains
     !> it filled, then release at once (the pulse at every cell crossing of
     !> interfaces.md 2d). Only where its own density is within contact_own of the
     !> neighbours': beyond that the level set, not the compression, is what differs.
+    !> Minus its own content over its fraction where none of them sounds.
     real(wp) function reference_density(c0, cc0) result(rho)
       integer, intent(in) :: c0(3)
       real(wp), intent(in) :: cc0(:)
@@ -413,7 +436,7 @@ contains
       cand(2) = blk%q0(c0(1), c0(2), c0(3), lo + i_rho - 1)
       cand(3) = cc0(i_rho) / alpha(c0(1), c0(2), c0(3))
       cand(4) = ph%rest(1, cut%p)
-      rho = cand(3)
+      rho = -cand(3)
       w = (alpha(c0(1), c0(2), c0(3)) - cut%small) / (1.0_wp - cut%small)
       if (touch(c0(1), c0(2), c0(3)) .and. w > 0.0_wp .and. cand(1) > 0.0_wp) then
         if (abs(cand(3) - cand(1)) < contact_own * cand(1)) &
@@ -421,25 +444,11 @@ contains
       end if
       do l = 1, 4
         if (.not. cand(l) > 0.0_wp) cycle
-        if (.not. sounds(cand(l), cc0)) cycle
+        if (.not. content_sounds(ph%eos(cut%p), cand(l), cc0)) cycle
         rho = cand(l)
         return
       end do
     end function reference_density
-
-    !> whether content cc0 at density rho0 (its energy and velocity per mass) has a real,
-    !> finite sound speed
-    logical function sounds(rho0, cc0)
-      real(wp), intent(in) :: rho0, cc0(:)
-      real(wp) :: r1(1), e1(1), p1(1), c21(1)
-      sounds = .false.
-      if (.not. (rho0 > 0.0_wp .and. cc0(i_rho) > 0.0_wp)) return
-      r1 = rho0
-      e1 = cc0(i_en) / cc0(i_rho) - 0.5_wp * sum(cc0(i_mx:i_mz)**2) / cc0(i_rho)**2
-      call eos_pressure(ph%eos(cut%p), 1, r1, e1, p1)
-      call eos_sound_speed2(ph%eos(cut%p), 1, r1, p1, c21)
-      sounds = c21(1) > 0.0_wp .and. c21(1) <= huge(1.0_wp)
-    end function sounds
 
     !> whether a face neighbour of interior cell c0 is not full (the surface is beside it;
     !> asked of every full cell of the box, so without temporaries)
@@ -456,11 +465,6 @@ contains
       end do
       beside_surface = .false.
     end function beside_surface
-
-    logical function on_open_side(c0)
-      integer, intent(in) :: c0(3)
-      on_open_side = on_open(blk%lay, blk%offset, open_side, c0)
-    end function on_open_side
 
     !> The content (times volume) of the group of root c0: c0 and the neighbours that joined
     !> it (faces first, then edges and corners); sa the members' weights for repaying a debt,

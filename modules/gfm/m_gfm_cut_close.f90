@@ -10,11 +10,12 @@ module m_gfm_cut_close
   use m_layout, only: layout_t, cell_volume
   use m_blocks, only: block_t
   use m_levelset_bodies, only: ls_set_t, ls_material, ls_void
-  use m_state, only: i_rho, i_mx, i_mz
+  use m_state, only: i_rho, i_mx, i_mz, i_en
+  use m_eos, only: eos_t, eos_pressure, eos_sound_speed2
   use m_gfm_cut_cells, only: full
   implicit none
   private
-  public :: relax_closing, cut_follow, cut_follow_body
+  public :: relax_closing, cut_follow, cut_follow_body, content_sounds
 
   !> a body's level set shrinks towards its content only beyond this many times the dead band
   !> (&numerics body_follow) it grows beyond: cut_follow_body
@@ -134,6 +135,21 @@ contains
     kinetic = 0.0_wp
     if (u(i_rho) > 0.0_wp) kinetic = 0.5_wp * sum(u(i_mx:i_mz)**2) / u(i_rho)
   end function kinetic
+
+  !> whether content cc0 at density rho0 (its energy and velocity per mass) has a real,
+  !> finite sound speed in equation of state eos
+  logical function content_sounds(eos, rho0, cc0) result(sounds)
+    type(eos_t), intent(in) :: eos
+    real(wp), intent(in) :: rho0, cc0(:)
+    real(wp) :: r1(1), e1(1), p1(1), c21(1)
+    sounds = .false.
+    if (.not. (rho0 > 0.0_wp .and. cc0(i_rho) > 0.0_wp)) return
+    r1 = rho0
+    e1 = cc0(i_en) / cc0(i_rho) - 0.5_wp * sum(cc0(i_mx:i_mz)**2) / cc0(i_rho)**2
+    call eos_pressure(eos, 1, r1, e1, p1)
+    call eos_sound_speed2(eos, 1, r1, p1, c21)
+    sounds = c21(1) > 0.0_wp .and. c21(1) <= huge(1.0_wp)
+  end function content_sounds
 
   !> A void body's level set follows the content (manual/theory.md section 7c): in each cut
   !> cell of block blk whose surface is a void body's, the fraction its content fills at
@@ -267,10 +283,10 @@ contains
 
   !> The level sets' moves d (in cells, per level set; zero beyond the block) spread over
   !> each cell's neighbours by the weights (1/4, 1/2, 1/4) along each direction and added to
-  !> the level sets times the cell size h. The spreading is the transpose of the averaging that takes phi
-  !> to the corners (m_levelset_cut): a move that alternates from cell to cell changes no
-  !> corner, so no fraction could ever take it back; pointwise moves fed it and a void's
-  !> surface roughened at rest.
+  !> the level sets times the cell size h. The spreading is the transpose of the averaging
+  !> that takes phi to the corners (m_levelset_cut): a move that alternates from cell to cell
+  !> changes no corner, so no fraction could ever take it back; pointwise moves fed it and a
+  !> void's surface roughened at rest.
   subroutine spread_moves(blk, ils, d)
     type(block_t), intent(inout) :: blk
     integer, intent(in) :: ils
