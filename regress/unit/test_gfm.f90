@@ -18,7 +18,11 @@
 !> debt joins a neighbour that is not small, a sheet of small cells joins its highest cell,
 !> and two blocks that share a side form every group their interiors read as one block over
 !> the whole field does; (7) the mixing of small cells that no group holds (mix_lonely): the
-!> content kept, a lonely cell moved towards its ring, two blocks bit for bit as one.
+!> content kept, a lonely cell moved towards its ring, two blocks bit for bit as one; (8) the
+!> sound-speed test of a content (m_gfm_cut_close's content_sounds), which decides when a cut
+!> cell's content is mixed or stranded: aluminium at rest, or moving with its kinetic energy
+!> all in its total, sounds; the same content with e = -1.5e7 J/kg (the rod_plate_2d slivers)
+!> sounds at no density from 0.5 to 1.15 rho0 (and does at 1.5); no mass or density: never.
 program test_gfm
   use m_kinds, only: wp
   use m_comm, only: comm_init
@@ -31,7 +35,8 @@ program test_gfm
   use m_state, only: n_solid, i_rho, i_mx, i_my, i_en, i_sxx
   use m_blocks, only: block_t
   use m_levelset_bodies, only: ls_set_t, ls_void
-  use m_gfm_cut_close, only: cut_follow
+  use m_gfm_cut_close, only: cut_follow, content_sounds
+  use m_eos, only: eos_t, eos_mie_gruneisen, eos_prepare
   use m_gfm_cut_cells, only: group_roots, ring, debt_mark, mix_lonely
   implicit none
   call comm_init()
@@ -44,6 +49,7 @@ program test_gfm
   call check_follow()
   call check_groups()
   call check_lonely()
+  call check_sounds()
   call check_done()
 
 contains
@@ -161,6 +167,40 @@ contains
     f(8, 6, 1) = debt_mark        ! in debt on the blocks' shared side
     f(9, 6, 1) = 0.45_wp     ! the highest of its ring
   end subroutine sheet_field
+
+  !> (8) content_sounds on aluminium (rho0 2790, c0 5328 m/s, s 1.338, Gamma 2): contents per
+  !> unit volume (rho, rho u, rho v, rho w, rho E).
+  subroutine check_sounds()
+    type(eos_t) :: al
+    real(wp) :: rest(5), moving(5), spent(5), f
+    logical :: any_sound, sounds, massless
+    integer :: m
+    al = eos_t(kind=eos_mie_gruneisen, rho0=2790.0_wp, c0=5328.0_wp, s=1.338_wp, &
+      gruneisen=2.0_wp, cv=885.0_wp, T0=298.0_wp)
+    call eos_prepare(al)
+    rest = [2790.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp]
+    moving = [27.9_wp, 27.9_wp * 1000.0_wp, 0.0_wp, 0.0_wp, 0.5_wp * 27.9_wp * 1000.0_wp**2]
+    spent = moving
+    spent(5) = moving(5) - 27.9_wp * 1.5e7_wp
+    call check('content_sounds: aluminium at rest sounds at rho0', &
+      content_sounds(al, 2790.0_wp, rest))
+    call check('content_sounds: a sliver at 1000 m/s with e = 0 sounds at rho0', &
+      content_sounds(al, 2790.0_wp, moving))
+    any_sound = .false.
+    do m = 0, 20
+      f = 0.5_wp * 2.3_wp**(real(m, wp) / 20.0_wp)
+      sounds = content_sounds(al, f * 2790.0_wp, spent)
+      any_sound = any_sound .or. sounds
+    end do
+    call check('content_sounds: e = -1.5e7 J/kg sounds at no density in 0.5-1.15 rho0', &
+      .not. any_sound)
+    ! (compressed beyond about 1.18 rho0 the Hugoniot's stiffness gives it a sound speed)
+    call check('content_sounds: ... and does at 1.5 rho0', &
+      content_sounds(al, 1.5_wp * 2790.0_wp, spent))
+    sounds = content_sounds(al, 0.0_wp, rest)
+    massless = content_sounds(al, 2790.0_wp, [0.0_wp, 0.0_wp, 0.0_wp, 0.0_wp, 1.0_wp])
+    call check('content_sounds: no density, no mass: never', .not. (sounds .or. massless))
+  end subroutine check_sounds
 
   !> The mixing of small cells that no group holds (m_gfm_cut_cells' mix_lonely) on
   !> check_groups' field, axisymmetric (cell volumes grow with r), with a content of two
