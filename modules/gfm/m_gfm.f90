@@ -18,7 +18,7 @@ module m_gfm
   use m_kinds, only: wp, i8
   use m_text, only: choice_index
   use m_layout, only: layout_t, cell_volume
-  use m_eos, only: eos_t, eos_energy, eos_sound_speed2, eos_pressure
+  use m_eos, only: eos_t, eos_energy, eos_sound_speed2, eos_pressure, eos_ideal_gas
   use m_elastoplastic, only: primitive_row
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, i_epsp
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_material
@@ -259,7 +259,7 @@ contains
     type(gfm_counts_t), intent(inout) :: counts
     integer :: lo(3), hi(3), i, j, k, npts, d, nd, k3(3), nflow, off, pk, o, m
     real(wp) :: qrest(scn%nflow), grad(3), s(3), wi(scn%nflow), wg(scn%nflow), wk(scn%nflow)
-    real(wp) :: c2(1), phi_p, dist, pstar
+    real(wp) :: c2(1), phi_p, dist, pstar, floor
     logical :: complete, collision
     nflow = scn%nflow
     off = (p - 1) * nflow
@@ -327,10 +327,11 @@ contains
             wg(1) = max(wg(1), wi(1))
             wg(5) = wi(5)
             call eos_sound_speed2(scn%eos(p), 1, wg(1:1), wg(5:5), c2)
-            ! (a density below 1e-3 of the rest density is no state beside a material: with
-            ! the image's pressure its sound speed is without bound, and so are the fluxes of
-            ! a face beside it)
-            if (.not. (c2(1) > 0.0_wp .and. wg(1) > 1.0e-3_wp * scn%rest(1, p))) &
+            ! (a condensed material below 1e-3 of its rest density is no state: with the
+            ! image's pressure its sound speed is without bound, and so are the fluxes of a
+            ! face beside it; a gas may expand that far)
+            floor = merge(1.0e-6_wp, 1.0e-3_wp, scn%eos(p)%kind == eos_ideal_gas)
+            if (.not. (c2(1) > 0.0_wp .and. wg(1) > floor * scn%rest(1, p))) &
               wg(1:5) = [scn%rest(1, p), wg(2:4), scn%rest(2, p)]
           end if
           call put_state(scn%eos(p), wg, q(i, j, k, off+1:off+nflow))
