@@ -328,11 +328,6 @@ contains
               else
                 filled(ii, jj, kk) = min(alpha_e(ii, jj, kk), &
                   cq(ii - e(1), jj - e(2), kk - e(3), i_rho) / ph%rest(1, cut%p))
-                ! a small cell without a sound speed at the rest density: a debtor too
-                if (filled(ii, jj, kk) < cut%small) then
-                  if (.not. content_sounds(ph%eos(cut%p), ph%rest(1, cut%p), &
-                    cq(ii - e(1), jj - e(2), kk - e(3), :))) filled(ii, jj, kk) = debt_mark
-                end if
               end if
             end do
           end do
