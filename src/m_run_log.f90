@@ -227,7 +227,7 @@ contains
         write(line, '(a,i0,a)') 'gfm: ', comm_sum(int(sum(s%cut%soundless), i8)), &
           ' cell-stages of a small cell whose content had a real sound speed at no density ' &
           // '(kinetic energy beyond its total) showed its step-start state; its content ' &
-          // 'at the step''s end stranded (history.csv stranded_mass, theory.md 7b)'
+          // 'at the step''s end stranded (history.csv cut_stranded_*, theory.md 7b)'
         call log_line(line)
       end if
       if (size(s%cut) > 1) then
