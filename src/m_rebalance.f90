@@ -230,6 +230,7 @@ contains
     integer :: nb, n(3), k
     nb = size(sim%blocks)
     deallocate(sim%gf%dormant)
+    if (allocated(sim%gf%rested)) deallocate(sim%gf%rested)
     allocate(sim%gf%dormant(nb))
     sim%gf%dormant = .false.
     do k = 1, size(sim%cut)

@@ -169,6 +169,9 @@ contains
     logical, intent(inout) :: failed
     logical, intent(in), optional :: trouble(:, :, :)
     integer :: p, kept(2)
+    logical :: idle(sim%ph%nvar)   !< the variables of the phases absent from the block
+    if (.not. allocated(sim%gf%absent)) allocate(sim%gf%absent(sim%ph%nphase))
+    sim%gf%absent = .false.
     do p = 1, sim%ph%nphase
       call phase_rhs(sim%gf, sim%cut, sim%ls, sim%ph, sim%num, sim%fix, sim%blocks(b), b, p, &
         stage, wall, vwall, sim%wk%euler, nf, failed, trouble)
@@ -179,14 +182,20 @@ contains
     ! (a cut-cell phase's variables are only kept: its own update makes its stage content)
     kept = [1, 0]
     if (sim%cut(1)%on) kept = [sim%ph%lo(minval(sim%cut%p)), sim%ph%hi(maxval(sim%cut%p))]
+    ! (a phase absent from the block is not updated: every cell of it takes the rest state
+    ! after the update, phase_corrections)
+    idle = .false.
+    do p = 1, sim%ph%nphase
+      if (sim%gf%absent(p)) idle(sim%ph%lo(p):sim%ph%hi(p)) = .true.
+    end do
     associate (blk => sim%blocks(b))
       ! the stage input is kept for the cell-local fallback (at stage 1 it is q0 anyway)
       if (stage > 1) then
         call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%clk%dt, blk%q, blk%q0, &
-          blk%rhs, sim%wk%qsave, kept=kept)
+          blk%rhs, sim%wk%qsave, kept=kept, idle=idle)
       else
         call rk_stage_update(blk%lay, stage, sim%cfg%rk_order, sim%clk%dt, blk%q, blk%q0, &
-          blk%rhs, kept=kept)
+          blk%rhs, kept=kept, idle=idle)
       end if
     end associate
     call phase_corrections(sim%gf, sim%cut, sim%ls, sim%ph, sim%fix, sim%blocks(b), b, stage, &

@@ -47,6 +47,8 @@ contains
     select type (sim => ctx)
     type is (sim_t)
       sim%clk%dt = dt
+      ! (the step's start: no block's rest states are known to be in place, m_gfm's gf_t)
+      if (allocated(sim%gf%rested)) sim%gf%rested = .false.
       do b = 1, size(sim%blocks)
         associate (q => sim%blocks(b)%q, n => sim%blocks(b)%n)
           q(1:n(1), 1:n(2), 1:n(3), :) = sim%blocks(b)%q0

@@ -88,6 +88,14 @@ module m_gfm
     logical, allocatable :: dormant(:)
     real(wp), allocatable :: vel(:, :, :, :)   !< level-set advection velocity (padded block)
     real(wp), allocatable :: ls_rhs(:, :, :)
+    !> the phases absent from the block being staged (phase_rhs: every cell more than two
+    !> cells beyond the phase's region), whose update and corrections the stage skips
+    logical, allocatable :: absent(:)
+    !> rested(b): block b's interior holds each phase's rest state in every cell that lay
+    !> outside the phase's region when it was last written (by gfm_rest after a stage, or by
+    !> gfm_fill on a dormant block) and nothing has written since but a region's own cells;
+    !> false after the start, a restart, a rebalance and a step redone (m_gfm_stage, m_step)
+    logical, allocatable :: rested(:)
   end type gf_t
 
 contains
@@ -140,9 +148,9 @@ contains
 
   !> Fill the ghost bands of every phase in the block interior and put each phase's rest
   !> state beyond its band. q holds the nflow flow variables of each phase in turn, then the
-  !> level sets; its halo must be current. rested: the block was dormant at the previous
-  !> stage of this step, so its interior holds the rest states already (nothing computes a
-  !> dormant block) and a dormant block need not write them again.
+  !> level sets; its halo must be current. rested: the interior holds each phase's rest
+  !> state outside its region as it was last written (gf_t's rested), so every cell beyond the
+  !> band does already (the level sets have not moved a band since) and none is written again.
   subroutine gfm_fill(lay, scn, set, q, work, counts, dormant, rested)
     type(layout_t), intent(in) :: lay
     type(gfm_scene_t), intent(in) :: scn
@@ -187,7 +195,7 @@ contains
     end do
     do p = 1, set%nphase
       if (.not. busy(p)) cycle
-      call fill_phase(lay, scn, set, p, q, work, counts)
+      call fill_phase(lay, scn, set, p, q, work, counts, rested)
     end do
 
   contains
@@ -249,7 +257,7 @@ contains
   end function gfm_dormant
 
   !> The ghost band of phase p (work holds every phase's primitives, regions and owners).
-  subroutine fill_phase(lay, scn, set, p, q, work, counts)
+  subroutine fill_phase(lay, scn, set, p, q, work, counts, rested)
     type(layout_t), intent(in) :: lay
     type(gfm_scene_t), intent(in) :: scn
     type(ls_set_t), intent(in) :: set
@@ -257,6 +265,7 @@ contains
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     type(gfm_work_t), intent(inout) :: work
     type(gfm_counts_t), intent(inout) :: counts
+    logical, intent(in), optional :: rested   !< as gfm_fill's: no rest state written
     integer :: lo(3), hi(3), i, j, k, npts, d, nd, k3(3), nflow, off, pk, o, m
     real(wp) :: qrest(scn%nflow), grad(3), s(3), wi(scn%nflow), wg(scn%nflow), wk(scn%nflow)
     real(wp) :: c2(1), phi_p, dist, pstar, floor
@@ -270,7 +279,7 @@ contains
     ! the cells beyond the band take the rest state, variable by variable (a cell's variables
     ! lie a block apart: rows that vectorise, every cell stored, as a masked store does not);
     ! nothing below reads them
-    do m = 1, nflow
+    do m = 1, merge(0, nflow, present_and(rested))
       do k = 1, lay%bsize(3)
         do j = 1, lay%bsize(2)
           do i = 1, lay%bsize(1)
@@ -430,15 +439,25 @@ contains
 
   end subroutine fill_phase
 
+  !> Whether the optional flag is given and set.
+  pure logical function present_and(flag) result(yes)
+    logical, intent(in), optional :: flag
+    yes = .false.
+    if (present(flag)) yes = flag
+  end function present_and
+
   !> After a stage update: every interior cell outside the computed region goes to the rest
   !> state, so that no stale ghost value is taken for a state (the time step, the
   !> admissibility test and the totals read real cells and rest states only).
-  subroutine gfm_rest(lay, scn, set, q, work)
+  !> absent: phases every cell of which lies beyond their region (m_gfm_stage's phase_rhs):
+  !> the rest state in every cell, without their composite level set.
+  subroutine gfm_rest(lay, scn, set, q, work, absent)
     type(layout_t), intent(in) :: lay
     type(gfm_scene_t), intent(in) :: scn
     type(ls_set_t), intent(in) :: set
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     type(gfm_work_t), intent(inout) :: work
+    logical, intent(in), optional :: absent(:)
     integer :: lo(3), hi(3), i, j, k, m, p, off, ils
     real(wp) :: qrest(scn%nflow)
     lo = 1 - lay%ng
@@ -446,6 +465,15 @@ contains
     ils = set%nphase * scn%nflow
     do p = 1, set%nphase
       off = (p - 1) * scn%nflow
+      if (present(absent)) then
+        if (absent(p)) then
+          qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))
+          do m = 1, scn%nflow
+            q(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), off + m) = qrest(m)
+          end do
+          cycle
+        end if
+      end if
       call ls_region(set, p, lo, hi, q(:, :, :, ils+1:ils+set%n), work%bigphi(:, :, :, p), &
         work%owner(:, :, :, p))
       if (all(work%bigphi(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), p) < 0.0_wp)) cycle

@@ -112,11 +112,13 @@ contains
         end associate
       end do
     end do
+    if (.not. allocated(gf%rested)) allocate(gf%rested(size(blocks)), source=.false.)
     do b = 1, size(blocks)
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
-      ! (a block dormant since the step's first stage holds its rest states: no writing again)
+      ! (a block whose rest states are in place, gf_t's rested, does not write them again)
       call gfm_fill(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work, gf%counts, gf%dormant(b), &
-        rested=stage > 1 .and. gf%dormant(b))
+        rested=gf%rested(b) .and. .not. cut(1)%on)
+      gf%rested(b) = gf%dormant(b)
       if (gf%dormant(b)) cycle
       do k = 1, size(cut)
         if (cut(k)%on) call cut_scalars(cut(k), b, blocks(b), ph, stage)
@@ -177,18 +179,17 @@ contains
       call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
         gf%work%bigphi(:, :, :, p), gf%work%owner(:, :, :, p))
       gf%work%isreal(:, :, :, p) = gf%work%bigphi(:, :, :, p) < 0.0_wp
-      ! a phase absent from the block (every cell more than two cells beyond its region, so
-      ! that no cell can turn real in the stage) is not computed: its cells go to the rest
-      ! state after the update anyway (gfm_rest); so the cost follows the phases present.
-      ! Where it is present, only the boxes of its cells within two cells of its region are,
-      ! one box in each tile of the block (the rest of the block again holds its rest state
-      ! after the update): a grain's colour is computed over about its own cells, not over the
-      ! box of every grain of that colour in the block.
+      ! a phase absent from the block (every cell over two cells beyond its region: none can
+      ! turn real in the stage) is not computed, updated or corrected (block_stage,
+      ! phase_corrections): its cells take the rest state; the cost follows the phases present.
+      ! Where present, only the boxes of its cells within two cells of its region are, one in
+      ! each tile of the block (the rest again takes the rest state after the update): a
+      ! grain's colour is computed over about its own cells, not its colour's box in the block.
       if (.not. cuts(1)%on) then
         near = gf%work%bigphi(1:blk%n(1), 1:blk%n(2), 1:blk%n(3), p) &
           <= 2.0_wp * maxval(blk%lay%dx(1:blk%lay%ndim))
         if (.not. any(near)) then
-          blk%rhs(:, :, :, ph%lo(p):ph%hi(p)) = 0.0_wp
+          gf%absent(p) = .true.
           if (fix%on) fix%bflux(:, p, b, stage) = 0.0_wp
           gf%counts%absent = gf%counts%absent + 1
           return
@@ -294,6 +295,8 @@ contains
       do p = 1, ph%nphase
         if (.not. ph%strong(p)) cycle
         if (ls%n > 0) then
+          ! (a phase absent from the block has no real cell: no radial return)
+          if (gf%absent(p)) cycle
           ! the region after the update: its cells that were not real at the start are fresh
           call ls_region(ls, p, lo, hi, blk%q(:, :, :, ph%ils + 1:ph%nvar), &
             w%bigphi(:, :, :, p), w%owner(:, :, :, p))
@@ -311,7 +314,8 @@ contains
         blk%q(1:n(1), 1:n(2), 1:n(3), ph%ils + 1:ph%nvar))
       if (any(ls%kind == ls_material)) call gfm_drop_debris(blk%lay, gf%scn, ls, &
         blk%offset, blk%q, gf%counts, fix%lost)
-      if (ls%n > 0) call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work)
+      if (ls%n > 0) call gfm_rest(blk%lay, gf%scn, ls, blk%q, gf%work, gf%absent)
+      if (ls%n > 0) gf%rested(b) = .true.
     end associate
   end subroutine phase_corrections
 

@@ -18,8 +18,10 @@ contains
   !> TVD Runge-Kutta stage (Shu and Osher 1988): q = a q0 + b (q + dt rhs) on the interior.
   !> Variables kept(1)..kept(2), when given, are only kept (into q0 at stage 1, into save),
   !> not updated: a cut-cell phase, whose stage content its own update makes (m_gfm_cut's
-  !> cut_update, which overwrites them).
-  subroutine rk_stage_update(lay, stage, order, dt, q, q0, rhs, save, kept)
+  !> cut_update, which overwrites them). Variables with idle(m), when given, are neither
+  !> updated nor their rates read: a phase absent from the block (m_gfm_stage's phase_rhs),
+  !> whose cells all take the rest state after the stage.
+  subroutine rk_stage_update(lay, stage, order, dt, q, q0, rhs, save, kept, idle)
     type(layout_t), intent(in) :: lay
     integer, intent(in) :: stage, order
     real(wp), intent(in) :: dt
@@ -30,6 +32,8 @@ contains
     !> cell-local fallback (m_step); at stage 1 it is q0
     real(wp), intent(out), optional :: save(:, :, :, :)
     integer, intent(in), optional :: kept(2)
+    !> variables not updated either (kept as they are, their rates not read)
+    logical, intent(in), optional :: idle(:)
     real(wp) :: a, b
     integer :: n1, n2, n3, i, j, k, m
     logical :: upd(size(q, 4))
@@ -38,6 +42,7 @@ contains
     n3 = lay%bsize(3)
     upd = .true.
     if (present(kept)) upd(kept(1):kept(2)) = .false.
+    if (present(idle)) upd = upd .and. .not. idle
     if (stage == 1) then
       q0 = q(1:n1, 1:n2, 1:n3, :)
       if (all(upd)) then
