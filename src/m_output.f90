@@ -238,7 +238,7 @@ contains
     real(wp), allocatable :: v(:)
     real(wp) :: tot(9), pmax, tmax, epmax, cut_tot(8), x
     real(wp), allocatable :: sums(:), xmax(:)
-    integer :: b, l, nb, ph, nsum, nc, c, r
+    integer :: b, nb, ph, nsum, nc, c, r
     real(wp), allocatable :: body(:, :), part(:, :)
     logical :: has_t(sim%ph%nphase)
     do ph = 1, sim%ph%nphase
@@ -289,14 +289,10 @@ contains
     if (sim%ph%has_reaction) v = [v, sums(r)]
     nb = 0
     if (sim%ls%n > 0) nb = count(sim%ls%kind == ls_material)
-    allocate(body(8, nb))
-    nb = 0
-    do l = 1, sim%ls%n
-      if (sim%ls%kind(l) /= ls_material) cycle
-      nb = nb + 1
-      body(:, nb) = body_measures(sim, l)
-    end do
-    if (nb > 0) v = [v, reshape(body, [8 * nb])]
+    if (nb > 0) then
+      body = body_measures(sim)
+      v = [v, reshape(body, [8 * nb])]
+    end if
     v = [v, hot_row(sim%hot, sim%clk%time, tmax, tot(6), tot(5), void_volumes(sim), &
       sim%lay%cells)]
   end function history_values
@@ -443,76 +439,87 @@ contains
     if (present(least)) least = best
   end subroutine phase_select
 
-  !> Mass and volume of the body of level set l, and its bounding box. A cell counts with the
+  !> Mass and volume of the body of each material level set (in their order), and its
+  !> bounding box. A cell counts with the
   !> fraction f = min(1, max(0, 1/2 - Phi / h)) of its volume (Phi the composite level set of
   !> the body's phase, h the largest cell size; 2 pi r weighted in axisymmetry), so that the
   !> measures move smoothly with the surface rather than by whole rows of cells; the mass
   !> takes the phase's density there (a ghost value in the outer half cell). The box edges
-  !> are the zero crossings of phi between neighbouring cells (linear interpolation).
-  function body_measures(sim, l) result(m)
+  !> are the zero crossings of phi between neighbouring cells (linear interpolation). All
+  !> bodies in one pass over the rows: a row's phases are found once for all of them.
+  function body_measures(sim) result(m)
     type(sim_t), intent(in) :: sim
-    integer, intent(in) :: l
-    real(wp) :: m(8)
-    real(wp) :: x(3), dv, lo(3), hi(3), t, edge
-    integer :: b, i, j, k, d, c(3), iv, o, n(3)
+    real(wp), allocatable :: m(:, :)
+    real(wp) :: x(3), dv, t, edge, h, f
+    integer :: b, i, j, k, d, c(3), iv, o, n(3), l, nb, ib
+    integer :: ls_of(sim%ls%n)   !< the material level sets, in order
     integer, allocatable :: sel(:)
     logical, allocatable :: isreal(:)
-    real(wp), allocatable :: least(:)
-    real(wp) :: h, f, part(2, size(sim%blocks))
+    real(wp), allocatable :: least(:), part(:, :, :), lo(:, :), hi(:, :)
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
-    iv = sim%ph%ils + l
-    o = sim%ph%lo(sim%ls%phase(l)) - 1
-    m(1:2) = 0.0_wp
+    nb = 0
+    do l = 1, sim%ls%n
+      if (sim%ls%kind(l) /= ls_material) cycle
+      nb = nb + 1
+      ls_of(nb) = l
+    end do
+    allocate(m(8, nb), part(2, size(sim%blocks), nb), lo(3, nb), hi(3, nb))
     lo = huge(1.0_wp)
     hi = -huge(1.0_wp)
+    part = 0.0_wp
     do b = 1, size(sim%blocks)
-      m(1:2) = 0.0_wp
       n = sim%blocks(b)%n
       if (allocated(sel)) deallocate(sel, isreal, least)
       allocate(sel(n(1)), isreal(n(1)), least(n(1)))
       associate (q => sim%blocks(b)%q, off => sim%blocks(b)%offset)
         do k = 1, n(3)
           do j = 1, n(2)
-            if (.not. any(q(1:n(1), j, k, iv) < 0.5_wp * h)) cycle
+            if (.not. any(q(1:n(1), j, k, sim%ph%ils + ls_of(1:nb)) < 0.5_wp * h)) cycle
             call phase_select(sim, q(1:n(1), j, k, :), sel, isreal, least)
-            do i = 1, n(1)
-              if (.not. q(i, j, k, iv) < 0.5_wp * h .or. sel(i) /= sim%ls%phase(l)) cycle
-              x = cell_centre(sim%lay, off, i, j, k)
-              dv = cell_volume(sim%lay, off, i)
-              f = min(1.0_wp, max(0.0_wp, 0.5_wp - least(i) / h))
-              m(2) = m(2) + f * dv
-              m(1) = m(1) + f * dv * q(i, j, k, o + i_rho)
-              if (.not. q(i, j, k, iv) < 0.0_wp) cycle
-              do d = 1, sim%lay%ndim
-                lo(d) = min(lo(d), x(d))
-                hi(d) = max(hi(d), x(d))
-                c = [i, j, k]
-                c(d) = c(d) + 1
-                t = q(c(1), c(2), c(3), iv)
-                if (t >= 0.0_wp) then
-                  edge = x(d) + sim%lay%dx(d) * q(i, j, k, iv) / (q(i, j, k, iv) - t)
-                  hi(d) = max(hi(d), edge)
-                end if
-                c(d) = c(d) - 2
-                t = q(c(1), c(2), c(3), iv)
-                if (t >= 0.0_wp) then
-                  edge = x(d) - sim%lay%dx(d) * q(i, j, k, iv) / (q(i, j, k, iv) - t)
-                  lo(d) = min(lo(d), edge)
-                end if
+            do ib = 1, nb
+              l = ls_of(ib)
+              iv = sim%ph%ils + l
+              o = sim%ph%lo(sim%ls%phase(l)) - 1
+              do i = 1, n(1)
+                if (.not. q(i, j, k, iv) < 0.5_wp * h .or. sel(i) /= sim%ls%phase(l)) cycle
+                x = cell_centre(sim%lay, off, i, j, k)
+                dv = cell_volume(sim%lay, off, i)
+                f = min(1.0_wp, max(0.0_wp, 0.5_wp - least(i) / h))
+                part(2, b, ib) = part(2, b, ib) + f * dv
+                part(1, b, ib) = part(1, b, ib) + f * dv * q(i, j, k, o + i_rho)
+                if (.not. q(i, j, k, iv) < 0.0_wp) cycle
+                do d = 1, sim%lay%ndim
+                  lo(d, ib) = min(lo(d, ib), x(d))
+                  hi(d, ib) = max(hi(d, ib), x(d))
+                  c = [i, j, k]
+                  c(d) = c(d) + 1
+                  t = q(c(1), c(2), c(3), iv)
+                  if (t >= 0.0_wp) then
+                    edge = x(d) + sim%lay%dx(d) * q(i, j, k, iv) / (q(i, j, k, iv) - t)
+                    hi(d, ib) = max(hi(d, ib), edge)
+                  end if
+                  c(d) = c(d) - 2
+                  t = q(c(1), c(2), c(3), iv)
+                  if (t >= 0.0_wp) then
+                    edge = x(d) - sim%lay%dx(d) * q(i, j, k, iv) / (q(i, j, k, iv) - t)
+                    lo(d, ib) = min(lo(d, ib), edge)
+                  end if
+                end do
               end do
             end do
           end do
         end do
       end associate
-      part(:, b) = m(1:2)
     end do
-    ! over the block ids: the same sums however the blocks are owned
-    m(1:2) = comm_sum_by_key(part, [(sim%blocks(b)%id, b = 1, size(sim%blocks))], &
-      sim%lay%nblocks)
-    do d = 1, 3
-      m(1 + 2 * d) = -comm_max(-lo(d))
-      m(2 + 2 * d) = comm_max(hi(d))
-      if (d > sim%lay%ndim) m(1 + 2 * d:2 + 2 * d) = 0.0_wp
+    do ib = 1, nb
+      ! over the block ids: the same sums however the blocks are owned
+      m(1:2, ib) = comm_sum_by_key(part(:, :, ib), [(sim%blocks(b)%id, b = 1, &
+        size(sim%blocks))], sim%lay%nblocks)
+      do d = 1, 3
+        m(1 + 2 * d, ib) = -comm_max(-lo(d, ib))
+        m(2 + 2 * d, ib) = comm_max(hi(d, ib))
+        if (d > sim%lay%ndim) m(1 + 2 * d:2 + 2 * d, ib) = 0.0_wp
+      end do
     end do
   end function body_measures
 
