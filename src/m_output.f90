@@ -238,7 +238,7 @@ contains
     real(wp), allocatable :: v(:)
     real(wp) :: tot(9), pmax, tmax, epmax, cut_tot(8), x
     real(wp), allocatable :: sums(:), xmax(:)
-    integer :: b, nb, ph, nsum, nc, c, r
+    integer :: b, ph, nsum, nc, c, r
     real(wp), allocatable :: body(:, :), part(:, :)
     logical :: has_t(sim%ph%nphase)
     do ph = 1, sim%ph%nphase
@@ -287,11 +287,9 @@ contains
       if (nc > 1) v = [v, sim%cut(c)%exchanged]
     end do
     if (sim%ph%has_reaction) v = [v, sums(r)]
-    nb = 0
-    if (sim%ls%n > 0) nb = count(sim%ls%kind == ls_material)
-    if (nb > 0) then
+    if (sim%ls%n > 0) then
       body = body_measures(sim)
-      v = [v, reshape(body, [8 * nb])]
+      v = [v, reshape(body, [size(body)])]
     end if
     v = [v, hot_row(sim%hot, sim%clk%time, tmax, tot(6), tot(5), void_volumes(sim), &
       sim%lay%cells)]
@@ -452,18 +450,15 @@ contains
     real(wp), allocatable :: m(:, :)
     real(wp) :: x(3), dv, t, edge, h, f
     integer :: b, i, j, k, d, c(3), iv, o, n(3), l, nb, ib
-    integer :: ls_of(sim%ls%n)   !< the material level sets, in order
+    integer, allocatable :: ls_of(:)   !< the material level sets, in order
     integer, allocatable :: sel(:)
     logical, allocatable :: isreal(:)
     real(wp), allocatable :: least(:), part(:, :, :), lo(:, :), hi(:, :)
     h = maxval(sim%lay%dx(1:sim%lay%ndim))
-    nb = 0
-    do l = 1, sim%ls%n
-      if (sim%ls%kind(l) /= ls_material) cycle
-      nb = nb + 1
-      ls_of(nb) = l
-    end do
+    ls_of = pack([(l, l = 1, sim%ls%n)], sim%ls%kind == ls_material)
+    nb = size(ls_of)
     allocate(m(8, nb), part(2, size(sim%blocks), nb), lo(3, nb), hi(3, nb))
+    if (nb == 0) return
     lo = huge(1.0_wp)
     hi = -huge(1.0_wp)
     part = 0.0_wp

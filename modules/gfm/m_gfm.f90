@@ -159,10 +159,9 @@ contains
     type(gfm_work_t), intent(inout) :: work
     type(gfm_counts_t), intent(inout) :: counts
     logical, intent(out) :: dormant   !< every cell, halo included, lies beyond every band
-    logical, intent(in), optional :: rested
-    integer :: lo(3), hi(3), j, k, p, m, nflow, ils
+    logical, intent(in) :: rested
+    integer :: lo(3), hi(3), j, k, p, nflow, ils
     logical :: busy(set%nphase)
-    real(wp) :: qrest(scn%nflow)
     nflow = scn%nflow
     ils = set%nphase * nflow
     lo = 1 - lay%ng
@@ -176,16 +175,11 @@ contains
     end do
     dormant = all(work%bigphi > scn%band)
     if (dormant) then
-      if (present(rested)) then
-        if (rested) return
-      end if
+      if (rested) return
       ! every cell beyond every band: the rest states, whatever the halo holds (a dormant
       ! block's flow halo is not kept current, m_halo)
       do p = 1, set%nphase
-        qrest = rest_state(scn%eos(p), nflow, scn%rest(:, p))
-        do m = 1, nflow
-          q(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), (p-1)*nflow+m) = qrest(m)
-        end do
+        call put_rest(lay, scn, p, q)
       end do
       return
     end if
@@ -265,7 +259,7 @@ contains
     real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
     type(gfm_work_t), intent(inout) :: work
     type(gfm_counts_t), intent(inout) :: counts
-    logical, intent(in), optional :: rested   !< as gfm_fill's: no rest state written
+    logical, intent(in) :: rested   !< as gfm_fill's: no rest state written
     integer :: lo(3), hi(3), i, j, k, npts, d, nd, k3(3), nflow, off, pk, o, m
     real(wp) :: qrest(scn%nflow), grad(3), s(3), wi(scn%nflow), wg(scn%nflow), wk(scn%nflow)
     real(wp) :: c2(1), phi_p, dist, pstar, floor
@@ -278,8 +272,9 @@ contains
     qrest = rest_state(scn%eos(p), nflow, scn%rest(:, p))
     ! the cells beyond the band take the rest state, variable by variable (a cell's variables
     ! lie a block apart: rows that vectorise, every cell stored, as a masked store does not);
-    ! nothing below reads them
-    do m = 1, merge(0, nflow, present_and(rested))
+    ! nothing below reads them (none where they are in place: rested)
+    do m = 1, nflow
+      if (rested) exit
       do k = 1, lay%bsize(3)
         do j = 1, lay%bsize(2)
           do i = 1, lay%bsize(1)
@@ -439,12 +434,19 @@ contains
 
   end subroutine fill_phase
 
-  !> Whether the optional flag is given and set.
-  pure logical function present_and(flag) result(yes)
-    logical, intent(in), optional :: flag
-    yes = .false.
-    if (present(flag)) yes = flag
-  end function present_and
+  !> Phase p's rest state in every interior cell of the block.
+  subroutine put_rest(lay, scn, p, q)
+    type(layout_t), intent(in) :: lay
+    type(gfm_scene_t), intent(in) :: scn
+    integer, intent(in) :: p
+    real(wp), intent(inout) :: q(1-lay%ng(1):, 1-lay%ng(2):, 1-lay%ng(3):, :)
+    real(wp) :: qrest(scn%nflow)
+    integer :: m
+    qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))
+    do m = 1, scn%nflow
+      q(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), (p - 1) * scn%nflow + m) = qrest(m)
+    end do
+  end subroutine put_rest
 
   !> After a stage update: every interior cell outside the computed region goes to the rest
   !> state, so that no stale ghost value is taken for a state (the time step, the
@@ -467,10 +469,7 @@ contains
       off = (p - 1) * scn%nflow
       if (present(absent)) then
         if (absent(p)) then
-          qrest = rest_state(scn%eos(p), scn%nflow, scn%rest(:, p))
-          do m = 1, scn%nflow
-            q(1:lay%bsize(1), 1:lay%bsize(2), 1:lay%bsize(3), off + m) = qrest(m)
-          end do
+          call put_rest(lay, scn, p, q)
           cycle
         end if
       end if

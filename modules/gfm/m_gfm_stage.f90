@@ -115,7 +115,6 @@ contains
     if (.not. allocated(gf%rested)) allocate(gf%rested(size(blocks)), source=.false.)
     do b = 1, size(blocks)
       call gf_fit(gf, blocks(b)%lay, ph%nflow, ph%nphase)
-      ! (a block whose rest states are in place, gf_t's rested, does not write them again)
       call gfm_fill(blocks(b)%lay, gf%scn, ls, blocks(b)%q, gf%work, gf%counts, gf%dormant(b), &
         rested=gf%rested(b) .and. .not. cut(1)%on)
       gf%rested(b) = gf%dormant(b)
@@ -391,7 +390,8 @@ contains
             if (.not. cut%started .and. .not. cut%restored) then
               ! the run's start: a wet cell whose centre lies outside holds no state of the
               ! phase yet; its ghost state (the phase's state beside it) makes its content
-              call gfm_fill(blk%lay, gf%scn, ls, blk%q, gf%work, gf%counts, gf%dormant(b))
+              call gfm_fill(blk%lay, gf%scn, ls, blk%q, gf%work, gf%counts, gf%dormant(b), &
+                .false.)
               do m = 1, ph%nflow
                 cut%c0(1:n(1), 1:n(2), 1:n(3), m, b) = &
                   f%alpha * blk%q(1:n(1), 1:n(2), 1:n(3), v0 + m)
