@@ -41,7 +41,7 @@ CHK_FLAGS := $(STD_FLAGS) -O1 -g -Wall -Wextra -Wimplicit-interface -Werror -fch
 # modules in dependency order (a module only uses those before it)
 MODULES := core/m_kinds parallel/m_comm core/m_errors core/m_text core/m_signals core/m_config \
   core/m_state strength/m_yield strength/m_plasticity \
-  core/m_timers grid/m_layout grid/m_blocks parallel/m_partition parallel/m_balance \
+  core/m_timers grid/m_layout grid/m_blocks grid/m_tiles parallel/m_partition parallel/m_balance \
   parallel/m_halo \
   eos/m_eos numerics/m_reaction numerics/m_phases numerics/m_conduction grid/m_boundary numerics/m_reconstruct \
   numerics/m_characteristic \

@@ -6,8 +6,6 @@
 !> (stage_content, put_states, m_gfm_cut) compute only the box, where a body fills a few
 !> blocks' corners. The states beyond it are assumed finite (0 times a state is a zero).
 !> Boxes are m_gfm_cut's to keep; the kernels here take arrays and a box and nothing else.
-!> (Here too the tiles' boxes in which m_gfm_stage computes a phase with a surface:
-!> near_boxes.)
 !> Of the dry cells beyond the box, the passes write the phase's variables in q only where
 !> something may read them (near the box: a box grown by a reach); deep in a block's dry
 !> part q keeps its state, which the ghost fill or the rest state makes again before anything
@@ -17,7 +15,7 @@ module m_gfm_cut_box
   implicit none
   private
   public :: box_union, box_nonzero, box_below, box_whole, box_empty, stage_content, put_states
-  public :: above_beyond, box_grown, near_boxes
+  public :: above_beyond, box_grown
 
   !> a box without a cell
   integer, parameter :: box_empty(2, 3) = reshape([1, 0, 1, 0, 1, 0], [2, 3])
@@ -222,58 +220,5 @@ contains
       i1 = 0
     end if
   end subroutine box_row
-
-  !> The boxes of the true cells of mask (one at least) tile by tile: the block cut into
-  !> tiles of about `tile` cells along each direction, in each tile the smallest box that
-  !> holds its true cells (none where it has none); boxes(:, :, ib) is (low, high corner).
-  pure function near_boxes(mask, tile) result(boxes)
-    logical, intent(in) :: mask(:, :, :)
-    integer, intent(in) :: tile
-    integer, allocatable :: boxes(:, :, :)
-    integer :: nt(3), n(3), t(3), a(3), z(3), box(2, 3), nbox, i, j, k
-    n = shape(mask)
-    nt = max(1, nint(real(n, wp) / tile))
-    allocate(boxes(2, 3, product(nt)))
-    nbox = 0
-    do k = 0, nt(3) - 1
-      do j = 0, nt(2) - 1
-        do i = 0, nt(1) - 1
-          t = [i, j, k]
-          a = t * n / nt + 1
-          z = (t + 1) * n / nt
-          box = bounding_box(mask(a(1):z(1), a(2):z(2), a(3):z(3)))
-          if (any(box(1, :) > box(2, :))) cycle
-          nbox = nbox + 1
-          boxes(1, :, nbox) = box(1, :) + a - 1
-          boxes(2, :, nbox) = box(2, :) + a - 1
-        end do
-      end do
-    end do
-    boxes = boxes(:, :, 1:nbox)
-  end function near_boxes
-
-  !> The smallest box (low, high corner) that holds every true cell of mask (low > high
-  !> where it has none).
-  pure function bounding_box(mask) result(box)
-    logical, intent(in) :: mask(:, :, :)
-    integer :: box(2, 3), d, i
-    logical :: hit
-    do d = 1, 3
-      box(:, d) = [size(mask, d) + 1, 0]
-      do i = 1, size(mask, d)
-        select case (d)
-        case (1)
-          hit = any(mask(i, :, :))
-        case (2)
-          hit = any(mask(:, i, :))
-        case default
-          hit = any(mask(:, :, i))
-        end select
-        if (.not. hit) cycle
-        box(1, d) = min(box(1, d), i)
-        box(2, d) = i
-      end do
-    end do
-  end function bounding_box
 
 end module m_gfm_cut_box

@@ -21,7 +21,8 @@ module m_gfm_stage
   use m_gfm_conserve, only: fix_t
   use m_gfm_cut, only: cut_t, cut_geometry, cut_open, cut_update, cut_near, cut_put_boxes
   use m_gfm_cut_budget, only: cut_strand, cut_scalars
-  use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty, near_boxes
+  use m_gfm_cut_box, only: box_union, box_whole, box_below, box_empty
+  use m_tiles, only: near_boxes, tile_cells
   use m_gfm_cut_close, only: cut_follow, cut_follow_body
   use m_gfm_cut_cells, only: cut_donate
   use m_gfm_cut_contact, only: cut_contact
@@ -31,10 +32,6 @@ module m_gfm_stage
   implicit none
   private
   public :: ghost_fluid_fill, phase_rhs, phase_corrections, phase_states
-
-  !> the tiles' size in cells along each direction, within which a phase's rates are
-  !> computed over one box (phase_rhs)
-  integer, parameter :: tile_cells = 16
 
   !> what phase_states does (see there)
   integer, parameter, public :: states_geometry = 0, states_open = 1, states_end = 2, &

@@ -15,9 +15,10 @@
 !> levelset_reinit is a convenience for a single block with no neighbours: it fills the halo
 !> itself by zero-gradient extrapolation, so it is wrong across block or periodic
 !> boundaries. levelset_reinitialise runs the reinitialisation of a run's moving bodies over
-!> all blocks, with its own state (the level sets before the first pseudo-step and the RK save
-!> space of every block) and a ghost fill of the level sets before every stage.
-!> No narrow band, no MPI here.
+!> all blocks on their narrow band, with its own state (the level sets before the first
+!> pseudo-step, the RK save space and the band of every block) and a ghost fill of the level
+!> sets before every stage.
+!> No MPI here.
 module m_levelset_reinit
   use m_kinds, only: wp
   use m_reconstruct, only: scheme_weno5
@@ -28,28 +29,47 @@ module m_levelset_reinit
   use m_halo, only: halo_plan_t
   use m_boundary, only: bc_kind_t, fill_ghosts, ghosts_level_sets
   use m_phases, only: phases_t
+  use m_tiles, only: near_boxes, tile_cells
   implicit none
   private
   public :: levelset_reinit, levelset_reinit_step, levelset_reinit_rhs
   public :: levelset_halo_zero_gradient, levelset_reinitialise
 
+  !> the boxes (low, high corner, box) of one level set's narrow band on a block
+  !> the margin in cells around the narrow band that the reinitialisation also rebuilds (the
+  !> distance it carries the signed distance in one call: band pseudo-steps of half a cell)
+  integer, parameter :: band_reach = 3
+
+  type :: band_boxes_t
+    integer, allocatable :: box(:, :, :)
+  end type band_boxes_t
+
   !> The reinitialisation's state on one block: its level sets before the first pseudo-step
-  !> (padded) and the Runge-Kutta save space (interior), level set by level set.
+  !> (padded), the Runge-Kutta save space (interior), level set by level set, and the narrow
+  !> band: the cells it rebuilds (live) and, for each level set, the tiles' boxes that hold
+  !> them.
   type :: reinit_block_t
     real(wp), allocatable :: phi0(:, :, :, :), old(:, :, :, :)
+    logical, allocatable :: live(:, :, :, :)
+    type(band_boxes_t), allocatable :: tiles(:)
   end type reinit_block_t
 
 contains
 
   !> Reinitialise the level sets l with moves(l) of every block to signed distances: band
   !> pseudo-steps of half a cell, so the distance is rebuilt out to band / 2 cells (3 for the
-  !> default band of 6, the depth of the ghost band, beyond which nothing moves the level
-  !> set), the ghost cells of the level sets filled (m_boundary) before every RK stage. The
-  !> cells next to the surface are frozen: the zero level set stays where the advection put
-  !> it. skip: the dormant blocks, not reinitialised (their halos are filled all the same):
-  !> every cell of such a block, halo included, lies beyond every ghost band, where only the
-  !> level sets' signs and that test matter, and the block is not advected either; when a
-  !> surface comes near, the block wakes while the band is still in its halo, and the
+  !> default band of 6, the depth of the ghost band), the ghost cells of the level sets filled
+  !> (m_boundary) before every RK stage. Only the narrow band is rebuilt: the cells with
+  !> |phi| <= band dx at the start (dx the largest spacing), the band in which the time loop
+  !> advects the level set (m_levelset_motion), and a margin of band_reach cells round it
+  !> (band_cells); beyond them a level set keeps its value, of which only the sign is read. Each level set's band is computed over the tiles' boxes
+  !> that hold it (m_tiles), and a block its band misses costs nothing; so the cost follows
+  !> the surfaces, not the blocks times the level sets (interfaces.md 1, "Reinitialisation").
+  !> The cells next to the surface are frozen: the zero level set stays where the advection
+  !> put it. skip: the dormant blocks, not reinitialised (their halos are filled all the
+  !> same): every cell of such a block, halo included, lies beyond every ghost band, where
+  !> only the level sets' signs and that test matter, and the block is not advected either;
+  !> when a surface comes near, the block wakes while the band is still in its halo, and the
   !> reinitialisations that follow rebuild its distance (performance.md, "Reinitialisation
   !> only where a surface is").
   subroutine levelset_reinitialise(plan, lay, bc, ph, blocks, moves, band, time, skip)
@@ -63,15 +83,24 @@ contains
     real(wp), intent(in) :: time
     logical, intent(in) :: skip(:)
     type(reinit_block_t), allocatable :: rs(:)
-    real(wp) :: dtau
+    real(wp) :: dtau, width
     integer :: it, stage, b, l, nls
     nls = size(moves)
+    width = real(band, wp) * maxval(lay%dx(1:lay%ndim))
     allocate(rs(size(blocks)))
     call fill_ghosts(plan, lay, bc, blocks, ph, ghosts_level_sets, time, skip)
     do b = 1, size(blocks)
       if (skip(b)) cycle
-      rs(b)%phi0 = blocks(b)%q(:, :, :, ph%ils + 1:ph%nvar)
-      allocate(rs(b)%old(blocks(b)%n(1), blocks(b)%n(2), blocks(b)%n(3), nls))
+      associate (n => blocks(b)%n, r => rs(b))
+        r%phi0 = blocks(b)%q(:, :, :, ph%ils + 1:ph%nvar)
+        allocate(r%old(n(1), n(2), n(3), nls), r%tiles(nls))
+        allocate(r%live(n(1), n(2), n(3), nls))
+        do l = 1, nls
+          if (.not. moves(l)) cycle
+          r%live(:, :, :, l) = band_cells(lay%ndim, n, lay%ng, r%phi0(:, :, :, l), width)
+          r%tiles(l)%box = near_boxes(r%live(:, :, :, l), tile_cells)
+        end do
+      end associate
     end do
     dtau = 0.5_wp * minval(lay%dx(1:lay%ndim))
     do it = 1, band
@@ -82,14 +111,95 @@ contains
           if (skip(b)) cycle
           do l = 1, nls
             if (.not. moves(l)) cycle
-            call levelset_reinit_step(lay%ndim, blocks(b)%n, lay%ng, lay%dx, &
-              rs(b)%phi0(:, :, :, l), stage, dtau, blocks(b)%q(:, :, :, ph%ils + l), &
-              rs(b)%old(:, :, :, l), freeze=.true.)
+            call band_stage(lay%ndim, blocks(b)%n, lay%ng, lay%dx, rs(b)%phi0(:, :, :, l), &
+              rs(b)%live(:, :, :, l), rs(b)%tiles(l)%box, stage, dtau, &
+              blocks(b)%q(:, :, :, ph%ils + l), rs(b)%old(:, :, :, l))
           end do
         end do
       end do
     end do
   end subroutine levelset_reinitialise
+
+  !> The cells of a block that the reinitialisation rebuilds: those within band_reach cells
+  !> (a box, along the active axes) of a cell of the padded block with |phi0| <= width. The
+  !> margin keeps the values the band moves into current: a cell beyond the band is neither
+  !> advected nor rebuilt, so without it a surface coming nearer would find the cell's old,
+  !> too large distance there (the 400 m/s Taylor bar's spreading foot did, and its cut cells
+  !> failed); with it, every cell within band_reach of the band has been rebuilt at the last
+  !> reinitialisation, while a surface moves a fraction of a cell between two of them.
+  function band_cells(ndim, n, g, phi0, width) result(live)
+    integer, intent(in) :: ndim, n(3), g(3)
+    real(wp), intent(in) :: phi0(1-g(1):, 1-g(2):, 1-g(3):)
+    real(wp), intent(in) :: width
+    logical :: live(n(1), n(2), n(3))
+    logical, allocatable :: m(:, :, :), a(:, :, :), c(:, :, :)
+    integer :: r(3), s
+    r = 0
+    r(1:ndim) = min(band_reach, g(1:ndim))
+    m = abs(phi0(1-r(1):n(1)+r(1), 1-r(2):n(2)+r(2), 1-r(3):n(3)+r(3))) <= width
+    ! (m starts at 1: the padded cell 1 - r is its first) the margin axis by axis
+    allocate(a(n(1), n(2) + 2 * r(2), n(3) + 2 * r(3)), source=.false.)
+    do s = 0, 2 * r(1)
+      a = a .or. m(1+s:n(1)+s, :, :)
+    end do
+    allocate(c(n(1), n(2), n(3) + 2 * r(3)), source=.false.)
+    do s = 0, 2 * r(2)
+      c = c .or. a(:, 1+s:n(2)+s, :)
+    end do
+    live = .false.
+    do s = 0, 2 * r(3)
+      live = live .or. c(:, :, 1+s:n(3)+s)
+    end do
+  end function band_cells
+
+  !> One RK3 stage of the frozen reinitialisation of one level set on its narrow band: the
+  !> right-hand side over each box (with its halo of g cells), then the update of the live
+  !> cells (every right-hand side from the level set before the stage). A cell's right-hand
+  !> side reads only its stencil, so it is the same whichever box holds it.
+  subroutine band_stage(ndim, n, g, dx, phi0, live, boxes, stage, dtau, phi, phi_old)
+    integer, intent(in) :: ndim, n(3), g(3), stage
+    real(wp), intent(in) :: dx(3), dtau
+    real(wp), intent(in) :: phi0(1-g(1):, 1-g(2):, 1-g(3):)
+    logical, intent(in) :: live(:, :, :)
+    integer, intent(in) :: boxes(:, :, :)
+    real(wp), intent(inout) :: phi(1-g(1):, 1-g(2):, 1-g(3):)
+    real(wp), intent(inout) :: phi_old(:, :, :)
+    real(wp), allocatable :: rhs(:, :, :), sub(:, :, :), sub0(:, :, :), r(:, :, :)
+    integer :: ib, lo(3), hi(3), i, j, k
+    real(wp) :: a
+    if (size(boxes, 3) == 0) return
+    allocate(rhs(n(1), n(2), n(3)))
+    do ib = 1, size(boxes, 3)
+      lo = boxes(1, :, ib)
+      hi = boxes(2, :, ib)
+      sub = phi(lo(1)-g(1):hi(1)+g(1), lo(2)-g(2):hi(2)+g(2), lo(3)-g(3):hi(3)+g(3))
+      sub0 = phi0(lo(1)-g(1):hi(1)+g(1), lo(2)-g(2):hi(2)+g(2), lo(3)-g(3):hi(3)+g(3))
+      allocate(r(hi(1) - lo(1) + 1, hi(2) - lo(2) + 1, hi(3) - lo(3) + 1))
+      call levelset_reinit_rhs(ndim, hi - lo + 1, g, dx, sub0, sub, r, scheme_weno5, .true.)
+      rhs(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = r
+      deallocate(r)
+    end do
+    ! the convex TVD RK3 stages of m_levelset_advect's levelset_rk_stage, cell by cell
+    a = 0.0_wp
+    if (stage == 2) a = 0.75_wp
+    if (stage == 3) a = 1.0_wp / 3.0_wp
+    do ib = 1, size(boxes, 3)
+      do k = boxes(1, 3, ib), boxes(2, 3, ib)
+        do j = boxes(1, 2, ib), boxes(2, 2, ib)
+          do i = boxes(1, 1, ib), boxes(2, 1, ib)
+            if (.not. live(i, j, k)) cycle
+            if (stage == 1) then
+              phi_old(i, j, k) = phi(i, j, k)
+              phi(i, j, k) = phi_old(i, j, k) + dtau * rhs(i, j, k)
+            else
+              phi(i, j, k) = a * phi_old(i, j, k) &
+                + (1.0_wp - a) * (phi(i, j, k) + dtau * rhs(i, j, k))
+            end if
+          end do
+        end do
+      end do
+    end do
+  end subroutine band_stage
 
   !> iterations pseudo-time RK3 steps of size cfl * min(dx) on one isolated block.
   subroutine levelset_reinit(ndim, n, g, dx, phi, iterations, cfl, scheme)
