@@ -62,9 +62,10 @@ contains
   !> (m_boundary) before every RK stage. Only the narrow band is rebuilt: the cells with
   !> |phi| <= band dx at the start (dx the largest spacing), the band in which the time loop
   !> advects the level set (m_levelset_motion), and a margin of band_reach cells round it
-  !> (band_cells); beyond them a level set keeps its value, of which only the sign is read. Each level set's band is computed over the tiles' boxes
-  !> that hold it (m_tiles), and a block its band misses costs nothing; so the cost follows
-  !> the surfaces, not the blocks times the level sets (interfaces.md 1, "Reinitialisation").
+  !> (band_cells); beyond them a level set keeps its value, of which only the sign is read.
+  !> Each level set's band is computed over the tiles' boxes that hold it (m_tiles), and a
+  !> block its band misses costs nothing; so the cost follows the surfaces, not the blocks
+  !> times the level sets (interfaces.md 1, "Reinitialisation").
   !> The cells next to the surface are frozen: the zero level set stays where the advection
   !> put it. skip: the dormant blocks, not reinitialised (their halos are filled all the
   !> same): every cell of such a block, halo included, lies beyond every ghost band, where
