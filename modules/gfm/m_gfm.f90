@@ -23,7 +23,7 @@ module m_gfm
   use m_state, only: i_rho, i_mx, i_my, i_mz, i_en, n_euler, i_epsp
   use m_levelset_bodies, only: ls_set_t, ls_region, ls_material
   use m_levelset_geometry, only: levelset_gradient_at
-  use m_gfm_probe, only: probe_trilinear, probe_least_squares
+  use m_gfm_probe, only: probe_trilinear, probe_least_squares, probe_scalar, deepest_on_ray
   use m_gfm_mvi, only: gfm_mvi
   use m_gfm_mri, only: gfm_mri
   use m_gfm_mmi, only: gfm_mmi
@@ -307,6 +307,16 @@ contains
           dist = max(dist, phi_p)
           s = real([i, j, k], wp)
           s(1:nd) = s(1:nd) - dist * grad(1:nd) / lay%dx(1:nd)
+          ! an image beyond a region thinner than 2 Phi along the ray (a binder layer thinner
+          ! than a cell: outside the region again) goes to the region's deepest point on the
+          ! ray, where the probe interpolates the layer's real cells instead of extrapolating
+          ! a least-squares fit across the layer (hotspots.md 5, "binder runs away")
+          if (probe_scalar(nd, lo, hi, work%bigphi(:, :, :, p), s) >= 0.0_wp) then
+            dist = deepest_on_ray(nd, lo, hi, work%bigphi(:, :, :, p), [i, j, k], &
+              -grad / lay%dx, phi_p, dist)
+            s = real([i, j, k], wp)
+            s(1:nd) = s(1:nd) - dist * grad(1:nd) / lay%dx(1:nd)
+          end if
           if (.not. probe_image(work%w(:, :, :, :, p), work%isreal(:, :, :, p), s, wi)) then
             counts%unfilled = counts%unfilled + 1
             q(i, j, k, off+1:off+nflow) = qrest

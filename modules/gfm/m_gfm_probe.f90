@@ -13,13 +13,16 @@
 !>   strain, stored work) are kept within the range of the real cells of the fit: a linear
 !>   fit extrapolates, and a ghost that turns real would start outside that range (a
 !>   negative plastic strain at the foot of the Taylor bar).
+!> - probe_scalar, deepest_on_ray: one field (a composite level set) at a point, bilinear
+!>   (trilinear in 3D), and the point of a ray where it is least: where an image point lies
+!>   beyond a region thinner than its distance (m_gfm's fill_phase).
 !> Kernels only.
 module m_gfm_probe
   use m_kinds, only: wp
   use m_state, only: n_solid
   implicit none
   private
-  public :: probe_trilinear, probe_least_squares
+  public :: probe_trilinear, probe_least_squares, probe_scalar, deepest_on_ray
 
   integer, parameter :: max_var = n_solid + 1   !< a solid phase's variables and its reaction
 
@@ -170,5 +173,53 @@ contains
     end do
     ok = .true.
   end subroutine solve_small
+
+  !> The field f of the padded block (bounds lo..hi) at the point sp (cell index
+  !> coordinates): bilinear (trilinear in 3D) over the 2^ndim cells around it, the nearest
+  !> inside the array.
+  pure real(wp) function probe_scalar(ndim, lo, hi, f, sp) result(v)
+    integer, intent(in) :: ndim, lo(3), hi(3)
+    real(wp), intent(in) :: f(lo(1):, lo(2):, lo(3):), sp(3)
+    integer :: i0(3), c(3), a, b, d
+    real(wp) :: w(3), wt
+    i0 = 1
+    w = 0.0_wp
+    do d = 1, ndim
+      i0(d) = min(max(floor(sp(d)), lo(d)), hi(d) - 1)
+      w(d) = min(max(sp(d) - real(i0(d), wp), 0.0_wp), 1.0_wp)
+    end do
+    v = 0.0_wp
+    do a = 0, 2**ndim - 1
+      c = i0
+      wt = 1.0_wp
+      do d = 1, ndim
+        b = ibits(a, d - 1, 1)
+        c(d) = i0(d) + b
+        wt = wt * merge(w(d), 1.0_wp - w(d), b == 1)
+      end do
+      v = v + wt * f(c(1), c(2), c(3))
+    end do
+  end function probe_scalar
+
+  !> The distance t in [t0, t1] along the ray from cell ijk in direction e (cell index units
+  !> per unit length) at which f is least, of nine evenly spaced samples (the first least).
+  pure real(wp) function deepest_on_ray(ndim, lo, hi, f, ijk, e, t0, t1) result(t)
+    integer, intent(in) :: ndim, lo(3), hi(3), ijk(3)
+    real(wp), intent(in) :: f(lo(1):, lo(2):, lo(3):), e(3), t0, t1
+    integer :: m
+    real(wp) :: tm, v, best, sp(3)
+    best = huge(1.0_wp)
+    t = t1
+    do m = 0, 8
+      tm = t0 + (t1 - t0) * real(m, wp) / 8.0_wp
+      sp = real(ijk, wp)
+      sp(1:ndim) = sp(1:ndim) + tm * e(1:ndim)
+      v = probe_scalar(ndim, lo, hi, f, sp)
+      if (v < best) then
+        best = v
+        t = tm
+      end if
+    end do
+  end function deepest_on_ray
 
 end module m_gfm_probe
