@@ -35,28 +35,42 @@ contains
     real(wp), intent(in) :: s(3)
     real(wp), intent(out) :: val(:)
     logical, intent(out) :: complete
-    integer :: i0(3), c(3), a, b, d
-    real(wp) :: f(3), wt
+    integer :: c(3, 8), a, i0(3)
+    real(wp) :: wt(8)
+    call corners(ndim, lo, hi, s, i0, c, wt)
+    complete = all(floor(s(1:ndim)) == i0(1:ndim))
+    val = 0.0_wp
+    do a = 1, 2**ndim
+      complete = complete .and. isreal(c(1, a), c(2, a), c(3, a))
+      val = val + wt(a) * w(c(1, a), c(2, a), c(3, a), :)
+    end do
+  end subroutine probe_trilinear
+
+  !> The 2^ndim cells around the point s (cell index coordinates), the nearest inside
+  !> lo..hi, and their bilinear (trilinear) weights; i0 the first cell.
+  pure subroutine corners(ndim, lo, hi, s, i0, c, wt)
+    integer, intent(in) :: ndim, lo(3), hi(3)
+    real(wp), intent(in) :: s(3)
+    integer, intent(out) :: i0(3), c(3, 8)
+    real(wp), intent(out) :: wt(8)
+    integer :: a, b, d
+    real(wp) :: f(3)
     i0 = 1
     f = 0.0_wp
     do d = 1, ndim
       i0(d) = min(max(floor(s(d)), lo(d)), hi(d) - 1)
       f(d) = min(max(s(d) - real(i0(d), wp), 0.0_wp), 1.0_wp)
     end do
-    complete = all(floor(s(1:ndim)) == i0(1:ndim))
-    val = 0.0_wp
     do a = 0, 2**ndim - 1
-      c = i0
-      wt = 1.0_wp
+      c(:, a + 1) = i0
+      wt(a + 1) = 1.0_wp
       do d = 1, ndim
         b = ibits(a, d - 1, 1)
-        c(d) = i0(d) + b
-        wt = wt * merge(f(d), 1.0_wp - f(d), b == 1)
+        c(d, a + 1) = i0(d) + b
+        wt(a + 1) = wt(a + 1) * merge(f(d), 1.0_wp - f(d), b == 1)
       end do
-      complete = complete .and. isreal(c(1), c(2), c(3))
-      val = val + wt * w(c(1), c(2), c(3), :)
     end do
-  end subroutine probe_trilinear
+  end subroutine corners
 
   subroutine probe_least_squares(ndim, lo, hi, w, isreal, s, val, npts, bounded_from)
     integer, intent(in) :: ndim, lo(3), hi(3)
@@ -180,24 +194,12 @@ contains
   pure real(wp) function probe_scalar(ndim, lo, hi, f, sp) result(v)
     integer, intent(in) :: ndim, lo(3), hi(3)
     real(wp), intent(in) :: f(lo(1):, lo(2):, lo(3):), sp(3)
-    integer :: i0(3), c(3), a, b, d
-    real(wp) :: w(3), wt
-    i0 = 1
-    w = 0.0_wp
-    do d = 1, ndim
-      i0(d) = min(max(floor(sp(d)), lo(d)), hi(d) - 1)
-      w(d) = min(max(sp(d) - real(i0(d), wp), 0.0_wp), 1.0_wp)
-    end do
+    integer :: c(3, 8), a, i0(3)
+    real(wp) :: wt(8)
+    call corners(ndim, lo, hi, sp, i0, c, wt)
     v = 0.0_wp
-    do a = 0, 2**ndim - 1
-      c = i0
-      wt = 1.0_wp
-      do d = 1, ndim
-        b = ibits(a, d - 1, 1)
-        c(d) = i0(d) + b
-        wt = wt * merge(w(d), 1.0_wp - w(d), b == 1)
-      end do
-      v = v + wt * f(c(1), c(2), c(3))
+    do a = 1, 2**ndim
+      v = v + wt(a) * f(c(1, a), c(2, a), c(3, a))
     end do
   end function probe_scalar
 
