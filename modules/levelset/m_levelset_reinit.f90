@@ -35,11 +35,11 @@ module m_levelset_reinit
   public :: levelset_reinit, levelset_reinit_step, levelset_reinit_rhs
   public :: levelset_halo_zero_gradient, levelset_reinitialise
 
-  !> the boxes (low, high corner, box) of one level set's narrow band on a block
   !> the margin in cells around the narrow band that the reinitialisation also rebuilds (the
   !> distance it carries the signed distance in one call: band pseudo-steps of half a cell)
   integer, parameter :: band_reach = 3
 
+  !> the boxes (low, high corner, box) of one level set's narrow band on a block
   type :: band_boxes_t
     integer, allocatable :: box(:, :, :)
   end type band_boxes_t
