@@ -49,14 +49,22 @@ contains
 
   !> One stage (1, 2, 3) of TVD RK3 on the interior of phi: stage 1 saves phi in phi_old and
   !> takes an Euler step; stages 2 and 3 take the convex combinations 3/4, 1/4 and 1/3, 2/3.
-  subroutine levelset_rk_stage(n, g, stage, dt, phi, phi_old, rhs)
+  !> live (optional): only these cells are updated (and saved); the others keep their values
+  !> bit for bit (m_levelset_reinit's narrow band).
+  subroutine levelset_rk_stage(n, g, stage, dt, phi, phi_old, rhs, live)
     integer, intent(in) :: n(3), g(3), stage
     real(wp), intent(in) :: dt
     real(wp), intent(inout) :: phi(1-g(1):n(1)+g(1), 1-g(2):n(2)+g(2), 1-g(3):n(3)+g(3))
     real(wp), intent(inout) :: phi_old(n(1), n(2), n(3))
     real(wp), intent(in) :: rhs(n(1), n(2), n(3))
+    logical, intent(in), optional :: live(n(1), n(2), n(3))
     real(wp) :: a
     if (stage == 1) then
+      if (present(live)) then
+        where (live) phi_old = phi(1:n(1), 1:n(2), 1:n(3))
+        where (live) phi(1:n(1), 1:n(2), 1:n(3)) = phi_old + dt * rhs
+        return
+      end if
       phi_old = phi(1:n(1), 1:n(2), 1:n(3))
       phi(1:n(1), 1:n(2), 1:n(3)) = phi_old + dt * rhs
       return
@@ -65,6 +73,11 @@ contains
       a = 0.75_wp
     else
       a = 1.0_wp / 3.0_wp
+    end if
+    if (present(live)) then
+      where (live) phi(1:n(1), 1:n(2), 1:n(3)) = a * phi_old &
+        + (1.0_wp - a) * (phi(1:n(1), 1:n(2), 1:n(3)) + dt * rhs)
+      return
     end if
     phi(1:n(1), 1:n(2), 1:n(3)) = a * phi_old &
       + (1.0_wp - a) * (phi(1:n(1), 1:n(2), 1:n(3)) + dt * rhs)

@@ -94,7 +94,8 @@ contains
       if (skip(b)) cycle
       associate (n => blocks(b)%n, r => rs(b))
         r%phi0 = blocks(b)%q(:, :, :, ph%ils + 1:ph%nvar)
-        allocate(r%old(n(1), n(2), n(3), nls), r%tiles(nls))
+        allocate(r%old(n(1), n(2), n(3), nls), source=0.0_wp)
+        allocate(r%tiles(nls))
         allocate(r%live(n(1), n(2), n(3), nls))
         do l = 1, nls
           if (.not. moves(l)) cycle
@@ -166,10 +167,9 @@ contains
     real(wp), intent(inout) :: phi(1-g(1):, 1-g(2):, 1-g(3):)
     real(wp), intent(inout) :: phi_old(:, :, :)
     real(wp), allocatable :: rhs(:, :, :), sub(:, :, :), sub0(:, :, :), r(:, :, :)
-    integer :: ib, lo(3), hi(3), i, j, k
-    real(wp) :: a
+    integer :: ib, lo(3), hi(3)
     if (size(boxes, 3) == 0) return
-    allocate(rhs(n(1), n(2), n(3)))
+    allocate(rhs(n(1), n(2), n(3)), source=0.0_wp)
     do ib = 1, size(boxes, 3)
       lo = boxes(1, :, ib)
       hi = boxes(2, :, ib)
@@ -180,26 +180,9 @@ contains
       rhs(lo(1):hi(1), lo(2):hi(2), lo(3):hi(3)) = r
       deallocate(r)
     end do
-    ! the convex TVD RK3 stages of m_levelset_advect's levelset_rk_stage, cell by cell
-    a = 0.0_wp
-    if (stage == 2) a = 0.75_wp
-    if (stage == 3) a = 1.0_wp / 3.0_wp
-    do ib = 1, size(boxes, 3)
-      do k = boxes(1, 3, ib), boxes(2, 3, ib)
-        do j = boxes(1, 2, ib), boxes(2, 2, ib)
-          do i = boxes(1, 1, ib), boxes(2, 1, ib)
-            if (.not. live(i, j, k)) cycle
-            if (stage == 1) then
-              phi_old(i, j, k) = phi(i, j, k)
-              phi(i, j, k) = phi_old(i, j, k) + dtau * rhs(i, j, k)
-            else
-              phi(i, j, k) = a * phi_old(i, j, k) &
-                + (1.0_wp - a) * (phi(i, j, k) + dtau * rhs(i, j, k))
-            end if
-          end do
-        end do
-      end do
-    end do
+    ! (every cell's rate from the level set before the stage; beyond the boxes it is 0 and
+    ! unread, beyond the live cells nothing changes)
+    call levelset_rk_stage(n, g, stage, dtau, phi, phi_old, rhs, live)
   end subroutine band_stage
 
   !> iterations pseudo-time RK3 steps of size cfl * min(dx) on one isolated block.
