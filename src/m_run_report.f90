@@ -203,10 +203,13 @@ contains
     f%reinit_s = comm_max(timer_total(s%timers, 'reinit'))
     if (s%fix%on) then
       f%fixed = [sum(s%fix%taken(1, :)), sum(s%fix%taken(2, :))]
-      f%fixed_percent(1) = 100.0_wp * f%fixed(1) / s%fix%content0(1)
-      ! the energy part off: its content is not tracked, no per cent to give
-      f%fixed_percent(2) = ieee_nan()
-      if (s%fix%energy) f%fixed_percent(2) = 100.0_wp * f%fixed(2) / s%fix%content0(2)
+      ! the energy part off: its content is not tracked, no per cent to give; nor of a
+      ! content of zero (solids at rest at their reference state hold no energy)
+      f%fixed_percent = ieee_nan()
+      if (abs(s%fix%content0(1)) > 0.0_wp) f%fixed_percent(1) = 100.0_wp * f%fixed(1) &
+        / s%fix%content0(1)
+      if (s%fix%energy .and. abs(s%fix%content0(2)) > 0.0_wp) f%fixed_percent(2) = 100.0_wp &
+        * f%fixed(2) / s%fix%content0(2)
     end if
     f%fix_clamped = s%fix%clamped
     f%fix_aside = s%fix%aside
