@@ -10,10 +10,11 @@
 !> other side is another phase (the base material, or a body within kappa dx: a collision;
 !> the partner's state is read at the ghost cell itself). The value at IP1
 !> comes from m_gfm_probe: 'trilinear', 'least_squares', or 'auto' (trilinear where its
-!> stencil is complete, least squares elsewhere). Cells beyond the band hold a rest state
-!> (rest density and pressure, at rest, no stress): they are never read by a real cell's
-!> stencil and cost nothing to keep finite. The caller exchanges halos afterwards so that the
-!> ghosts of neighbour blocks are seen too. Kernels only: no MPI, no I/O.
+!> stencil is complete, least squares elsewhere; at a contact kept within its real cells'
+!> range). Cells beyond the band hold a rest state (rest density and pressure, at rest, no
+!> stress): they are never read by a real cell's stencil and cost nothing to keep finite.
+!> The caller exchanges halos afterwards so that the ghosts of neighbour blocks are seen
+!> too. Kernels only: no MPI, no I/O.
 module m_gfm
   use m_kinds, only: wp, i8
   use m_text, only: choice_index
@@ -317,16 +318,17 @@ contains
             s = real([i, j, k], wp)
             s(1:nd) = s(1:nd) - dist * grad(1:nd) / lay%dx(1:nd)
           end if
-          if (.not. probe_image(work%w(:, :, :, :, p), work%isreal(:, :, :, p), s, wi)) then
-            counts%unfilled = counts%unfilled + 1
-            q(i, j, k, off+1:off+nflow) = qrest
-            cycle
-          end if
           o = work%owner(i, j, k, p)
           pk = 0
           if (o < 0) call partner(-o, pk, collision)
           if (pk > 0) then
             if (.not. partner_state(pk)) pk = 0
+          end if
+          if (.not. probe_image(work%w(:, :, :, :, p), work%isreal(:, :, :, p), s, pk > 0, &
+              wi)) then
+            counts%unfilled = counts%unfilled + 1
+            q(i, j, k, off+1:off+nflow) = qrest
+            cycle
           end if
           if (o > 0) then
             call gfm_mri(nd, grad, set%velocity(:, o), wi, wg)
@@ -355,10 +357,11 @@ contains
 
   contains
 
-    !> the value of this phase at the image point s, by the run's probe
-    logical function probe_image(w, isreal, sp, val) result(found)
+    !> the value of this phase at the image point s, by the run's probe; at a contact
+    !> (bounded) the least-squares fit kept within its real cells' range
+    logical function probe_image(w, isreal, sp, bounded, val) result(found)
       real(wp), intent(in) :: w(lo(1):, lo(2):, lo(3):, :), sp(3)
-      logical, intent(in) :: isreal(lo(1):, lo(2):, lo(3):)
+      logical, intent(in) :: isreal(lo(1):, lo(2):, lo(3):), bounded
       real(wp), intent(out) :: val(:)
       found = .true.
       complete = .false.
@@ -370,7 +373,14 @@ contains
           return
         end if
       end if
-      call probe_least_squares(nd, lo, hi, w, isreal, sp, val, npts, bounded_from=i_epsp)
+      ! at a contact every variable within the range of the fit's real cells: an unbounded
+      ! linear fit extrapolates (up to three times a mode's size at a corner), and a contact
+      ! surface a few hundredths of a cell from a cell centre fed that gain back through the
+      ! interface state until the cell ran away (hotspots.md 5, "The junction's loop");
+      ! free surfaces and rigid walls keep the linear fit (plastic strain and stored work
+      ! bounded), whose reflected ghosts have not been seen to amplify
+      call probe_least_squares(nd, lo, hi, w, isreal, sp, val, npts, &
+        bounded_from=merge(1, i_epsp, bounded))
       if (npts > 0) counts%least_squares = counts%least_squares + 1
       if (npts < 0) counts%mean = counts%mean + 1
       found = npts /= 0
@@ -407,7 +417,7 @@ contains
     end subroutine partner
 
     !> the partner's state at the ghost cell: its own value where the cell is real for it,
-    !> else a least-squares fit of its real cells around the cell
+    !> else a least-squares fit of its real cells around the cell, bounded as the image's
     logical function partner_state(pp) result(found)
       integer, intent(in) :: pp
       integer :: n
@@ -417,7 +427,7 @@ contains
         return
       end if
       call probe_least_squares(nd, lo, hi, work%w(:, :, :, :, pp), work%isreal(:, :, :, pp), &
-        real([i, j, k], wp), wk, n, bounded_from=i_epsp)
+        real([i, j, k], wp), wk, n, bounded_from=1)
       found = n /= 0
     end function partner_state
 

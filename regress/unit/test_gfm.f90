@@ -268,7 +268,7 @@ contains
   subroutine check_probes(nd)
     integer, intent(in) :: nd
     integer, parameter :: n = 6
-    real(wp) :: w(-1:n, -1:n, -1:n, 2), s(3), val(2), c(3), exact(2)
+    real(wp) :: w(-1:n, -1:n, -1:n, 2), s(3), val(2), bval(2), c(3), exact(2)
     logical :: isreal(-1:n, -1:n, -1:n), complete
     integer :: lo(3), hi(3), i, j, k, npts
     character(len=8) :: tag
@@ -312,6 +312,19 @@ contains
       isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
     call check(trim(tag) // ' least squares exact at a corner (fewer real cells)', &
       npts > 0 .and. npts < 5**nd .and. maxval(abs(val - exact)) < 1.0e-12_wp)
+    ! the ghost fill's form (bounded_from = 1): a point beyond the corner's real cells, where
+    ! the linear fit extrapolates out of their range; bounded, each variable is the fit
+    ! clamped to the range of the real cells in the fit
+    s(1:2) = [3.4_wp, 4.4_wp]
+    if (nd == 3) s(3) = 3.4_wp
+    isreal = .false.
+    isreal(:2, :3, :2) = .true.
+    exact = [3.0_wp + dot_product(c, s), -1.0_wp + 0.5_wp * dot_product(c, s)]
+    call probe_least_squares(nd, lo, hi, w(lo(1):, lo(2):, lo(3):, :), &
+      isreal(lo(1):, lo(2):, lo(3):), s, bval, npts, bounded_from=1)
+    call check(trim(tag) // ' bounded least squares = the fit within its cells'' range', &
+      npts > 0 .and. maxval(abs(bval - clamp_to_real(nd, w, isreal, s, exact))) < 1.0e-12_wp &
+      .and. maxval(abs(bval - exact)) > 0.1_wp)
     ! real cells on one line of i only (a surface along a grid line): the 3-stencil is
     ! degenerate, the 5-stencil is not
     isreal = .false.
@@ -327,6 +340,33 @@ contains
       isreal(lo(1):, lo(2):, lo(3):), s, val, npts)
     call check(trim(tag) // ' least squares reports no real cell', npts == 0)
   end subroutine check_probes
+
+  !> x clamped, variable by variable, to the range of the real cells within two cells of the
+  !> point's nearest cell (a corner's fit takes the 5^nd stencil: its 3^nd real cells lie on
+  !> one line or plane)
+  function clamp_to_real(nd, w, isreal, s, x) result(y)
+    integer, intent(in) :: nd
+    real(wp), intent(in) :: w(-1:, -1:, -1:, :), s(3), x(2)
+    logical, intent(in) :: isreal(-1:, -1:, -1:)
+    real(wp) :: y(2), wlo(2), whi(2)
+    integer :: ic(3), a, b, e, top(3)
+    ic = 1
+    ic(1:nd) = nint(s(1:nd))
+    top = ubound(isreal)
+    wlo = huge(1.0_wp)
+    whi = -huge(1.0_wp)
+    do e = max(ic(3) - 2, -1), min(ic(3) + 2, top(3))
+      if (nd < 3 .and. e /= 1) cycle
+      do b = max(ic(2) - 2, -1), min(ic(2) + 2, top(2))
+        do a = max(ic(1) - 2, -1), min(ic(1) + 2, top(1))
+          if (.not. isreal(a, b, e)) cycle
+          wlo = min(wlo, w(a, b, e, :))
+          whi = max(whi, w(a, b, e, :))
+        end do
+      end do
+    end do
+    y = min(max(x, wlo), whi)
+  end function clamp_to_real
 
   subroutine check_classes(nd)
     integer, intent(in) :: nd
